@@ -1,0 +1,315 @@
+"""Derivation: energies and generalized forces -> Lagrange's equations of the 2nd kind.
+
+Produces ``M(q) q'' = f(q, q', t)`` in plain symbols (``phi``, ``phidot``, ``phiddot``).
+The mass matrix is never inverted symbolically. With ``T = u'M(q,t)u/2 + b(q,t)'u + T0``
+and momenta ``p = dT/du`` the i-th equation is
+
+    sum_j M_ij q''_j = Q_i + dT/dq_i - sum_k dp_i/dq_k u_k - dp_i/dt
+
+For one coordinate it also gives the reduced inertia ``I_red = M_11``, the reduced moment
+``M_red = Q`` and the textbook form ``I_red eps + I_red'/2 omega^2 = M_red``.
+
+>>> import sympy as sp, mechdyn as md
+>>> phi = md.coordinate("phi")
+>>> gear = md.Mechanism("disc", [phi])
+>>> _ = gear.link("disc", J=2, angle=phi)
+>>> _ = gear.load("drive", 6, along=phi)
+>>> gear.equations().eqs
+[Eq(2*phiddot, 6)]
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import sympy as sp
+
+from .elements import Damper, Friction, Gravity, Link, Load, Spring
+from .errors import DerivationError
+from .symbols import dotted_symbol, t
+
+__all__ = ["Equations", "FrictionTerm", "derive"]
+
+
+@dataclass(frozen=True)
+class FrictionTerm:
+    """A Coulomb friction element in plain symbols: magnitude, the gradient of its
+    ``along`` expression, its sliding rate and the velocity-only part of its second
+    derivative (``s'' = gradient . q'' + bias``)."""
+    name: str
+    magnitude: sp.Expr
+    gradient: sp.Matrix
+    rate: sp.Expr
+    bias: sp.Expr
+
+
+@dataclass
+class Equations:
+    """Lagrange's equations of a mechanism (or of a scene's selection of it).
+
+    Attributes: ``coordinates`` (functions of t), ``q``, ``u``, ``a`` (plain symbols of
+    coordinates, speeds, accelerations), ``mass_matrix`` and ``forcing`` (``M a = f``),
+    ``kinetic_energy``, ``potential_energy``, ``dissipation``, ``generalized_forces``
+    (element name -> column), ``powers`` (element name -> power), ``frictions``,
+    ``eliminated`` (coordinate -> expression, from rigid springs), ``elements`` (names
+    included), ``excluded`` (names left out), ``rigid`` (names made rigid).
+    """
+    name: str
+    coordinates: tuple
+    q: tuple
+    u: tuple
+    a: tuple
+    mass_matrix: sp.Matrix
+    inertial_forcing: sp.Matrix
+    kinetic_energy: sp.Expr
+    potential_energy: sp.Expr
+    dissipation: sp.Expr
+    generalized_forces: dict
+    powers: dict
+    frictions: tuple
+    eliminated: dict
+    elements: tuple
+    excluded: tuple
+    rigid: tuple
+    rheonomic: bool
+    links: dict = field(default_factory=dict)
+    to_plain: object = None
+
+    # --------------------------------------------------------------- the system
+    @property
+    def dof(self) -> int:
+        return len(self.q)
+
+    @property
+    def forcing(self) -> sp.Matrix:
+        """Right-hand side ``f``: generalized forces plus velocity-dependent inertia terms
+        (friction appears with ``sign`` of its sliding rate)."""
+        total = self.inertial_forcing
+        for column in self.generalized_forces.values():
+            total = total + column
+        return total
+
+    @property
+    def smooth_forcing(self) -> sp.Matrix:
+        """The forcing without the friction elements (they switch; see simulate)."""
+        friction_names = {fr.name for fr in self.frictions}
+        total = self.inertial_forcing
+        for name, column in self.generalized_forces.items():
+            if name not in friction_names:
+                total = total + column
+        return total
+
+    @property
+    def eqs(self) -> list:
+        """The equations as a list of ``sp.Eq(sum_j M_ij a_j, f_i)``."""
+        lhs = self.mass_matrix * sp.Matrix(self.a)
+        return [sp.Eq(lhs[i], self.forcing[i]) for i in range(self.dof)]
+
+    @property
+    def parameters(self) -> tuple:
+        """Symbols other than coordinates, speeds and time, sorted by name."""
+        exprs = [self.mass_matrix, self.forcing, self.kinetic_energy, self.potential_energy]
+        exprs += [fr.magnitude for fr in self.frictions]
+        known = set(self.q) | set(self.u) | {t}
+        free = set().union(*(e.free_symbols for e in exprs)) - known
+        return tuple(sorted(free, key=lambda s: s.name))
+
+    # ------------------------------------------------------------ one DOF only
+    def _one_dof(self, what):
+        if self.dof != 1:
+            names = ", ".join(str(q) for q in self.q)
+            raise DerivationError(
+                f"{what} is defined for one-DOF mechanisms; {self.name!r} has {self.dof} "
+                f"coordinates ({names}). Use equations() (mass matrix and forcing), or make "
+                "springs rigid in a scene to reduce it")
+        if self.rheonomic:
+            raise DerivationError(
+                f"{what}: positions of {self.name!r} depend explicitly on time t (an imposed "
+                "motion), so the textbook one-DOF form does not apply; use equations()")
+
+    @property
+    def reduced_inertia(self) -> sp.Expr:
+        """``I_red = sum m (v_S/omega)^2 + J (omega_i/omega)^2`` (= ``M_11``)."""
+        self._one_dof("reduced_inertia")
+        return self.mass_matrix[0, 0]
+
+    @property
+    def reduced_moment(self) -> sp.Expr:
+        """``M_red``: the generalized force of every load, spring, damper, gravity and
+        friction, reduced to the coordinate."""
+        self._one_dof("reduced_moment")
+        return sp.Add(*[column[0] for column in self.generalized_forces.values()])
+
+    @property
+    def textbook_equation(self) -> sp.Eq:
+        """``I_red eps + 1/2 dI_red/dphi omega^2 = M_red``."""
+        inertia = self.reduced_inertia
+        q, u, a = self.q[0], self.u[0], self.a[0]
+        return sp.Eq(inertia * a + sp.diff(inertia, q) / 2 * u**2, self.reduced_moment)
+
+    def _repr_latex_(self):
+        from .latex import equations_latex
+        return "$\\displaystyle " + equations_latex(self) + "$"
+
+
+# ----------------------------------------------------------------------- derivation
+def derive(mechanism, element_names=None, rigid=()) -> Equations:
+    """Form the equations of ``mechanism`` with the named elements (all if None) and
+    the springs in ``rigid`` (pairs ``(spring name, coordinate name or None)``) rigid."""
+    elements = mechanism.elements
+    if element_names is None:
+        element_names = tuple(n for n, e in elements.items() if not isinstance(e, Link))
+    rigid_names = tuple(name for name, _ in rigid)
+    coords = list(mechanism.coordinates)
+    plain_of = {q: dotted_symbol(q.func.__name__, 0) for q in coords}
+    speed_of = {sp.Derivative(q, t): dotted_symbol(q.func.__name__, 1) for q in coords}
+
+    def plain(expr):
+        return expr.xreplace(speed_of).xreplace(plain_of)
+
+    eliminated = _eliminate(mechanism, rigid, plain, coords)
+    kept = [q for q in coords if q not in eliminated]
+    q = tuple(plain_of[c] for c in kept)
+    u = tuple(dotted_symbol(c.func.__name__, 1) for c in kept)
+    a = tuple(dotted_symbol(c.func.__name__, 2) for c in kept)
+    position_subs, speed_subs = _substitutions(eliminated, plain_of, q, u)
+
+    def to_plain(expr):
+        return plain(expr).xreplace(speed_subs).xreplace(position_subs)
+
+    def rate(expr):
+        return sum((sp.diff(expr, qi) * ui for qi, ui in zip(q, u)), sp.S.Zero) + sp.diff(expr, t)
+
+    def gradient(expr):
+        return sp.Matrix([sp.diff(expr, qi) for qi in q])
+
+    links = {n: e for n, e in elements.items() if isinstance(e, Link)}
+    kinetic, potential, dissipation = sp.S.Zero, sp.S.Zero, sp.S.Zero
+    link_plain = {}
+    for name, link in links.items():
+        x, y, angle = (to_plain(link.x), to_plain(link.y), to_plain(link.angle))
+        link_plain[name] = (link.m, link.J, x, y, angle)
+        kinetic += link.m * (rate(x) ** 2 + rate(y) ** 2) / 2 + link.J * rate(angle) ** 2 / 2
+    rheonomic = any(t in e.free_symbols for (_, _, *pos) in link_plain.values() for e in pos)
+
+    forces, powers, frictions = {}, {}, []
+    zero = sp.zeros(len(q), 1)
+    for name in element_names:
+        element = elements[name]
+        if name in rigid_names:
+            continue
+        if isinstance(element, Load):
+            along = to_plain(element.along)
+            value = to_plain(element.value)
+            if element.efficiency is not None:
+                value = value * _efficiency_factor(value * rate(along), element.efficiency)
+            column = value * gradient(along)
+        elif isinstance(element, Spring):
+            stretch = to_plain(element.stretch)
+            k = to_plain(element.k)
+            potential += k * stretch ** 2 / 2
+            column = -k * stretch * gradient(stretch)
+        elif isinstance(element, Damper):
+            stretch = to_plain(element.stretch)
+            c = to_plain(element.c)
+            dissipation += c * rate(stretch) ** 2 / 2
+            column = -c * rate(stretch) * gradient(stretch)
+        elif isinstance(element, Gravity):
+            column = zero
+            for (m, _, _, y, _) in link_plain.values():
+                potential += m * element.g * y
+                column = column - m * element.g * gradient(y)
+        elif isinstance(element, Friction):
+            along = to_plain(element.along)
+            magnitude = to_plain(element.moment)
+            slide = rate(along)
+            grad = gradient(along)
+            bias = sum((sp.diff(slide, qi) * ui for qi, ui in zip(q, u)), sp.S.Zero) \
+                + sp.diff(slide, t)
+            frictions.append(FrictionTerm(name, magnitude, grad, slide, bias))
+            column = -magnitude * sp.sign(slide) * grad
+        else:  # pragma: no cover - every element type is handled above
+            raise TypeError(type(element))
+        forces[name] = column
+        powers[name] = sum((column[i] * u[i] for i in range(len(q))), sp.S.Zero)
+
+    mass, inertial = _lagrange(kinetic, q, u)
+    for i, qi in enumerate(q):
+        if mass[i, i] == 0:
+            raise DerivationError(
+                f"mechanism {mechanism.name!r}: no inertia in coordinate {qi}: no link's "
+                "mass or moment of inertia moves with it (give a link m or J that moves "
+                "with it, or make its spring rigid in the scene)")
+    excluded = tuple(n for n, e in elements.items()
+                     if not isinstance(e, Link) and n not in element_names)
+    return Equations(
+        name=mechanism.name, coordinates=tuple(kept), q=q, u=u, a=a,
+        mass_matrix=mass, inertial_forcing=inertial, kinetic_energy=kinetic,
+        potential_energy=potential, dissipation=dissipation, generalized_forces=forces,
+        powers=powers, frictions=tuple(frictions),
+        eliminated={c: expr for c, expr in eliminated.items()},
+        elements=tuple(n for n in element_names if n not in rigid_names),
+        excluded=excluded, rigid=rigid_names, rheonomic=rheonomic, links=link_plain,
+        to_plain=to_plain)
+
+
+def _lagrange(kinetic, q, u):
+    """Mass matrix and velocity-dependent inertia forcing from the kinetic energy."""
+    n = len(q)
+    momenta = [sp.diff(kinetic, ui) for ui in u]
+    mass = sp.Matrix(n, n, lambda i, j: sp.diff(momenta[i], u[j]))
+    inertial = sp.zeros(n, 1)
+    for i in range(n):
+        term = sp.diff(kinetic, q[i]) - sp.diff(momenta[i], t)
+        for k in range(n):
+            term -= sp.diff(momenta[i], q[k]) * u[k]
+        inertial[i] = term
+    return mass, inertial
+
+
+def _efficiency_factor(power, eta):
+    """1/eta while the load draws power from the drive, eta while it feeds power back."""
+    return sp.Piecewise((eta, power > 0), (1 / eta, True))
+
+
+def _eliminate(mechanism, rigid, plain, coords):
+    """Solve each rigid spring's ``stretch = 0`` for one coordinate (time functions)."""
+    eliminated = {}
+    by_name = {q.func.__name__: q for q in coords}
+    for spring_name, coordinate_name in rigid:
+        spring = mechanism.elements[spring_name]
+        stretch = spring.stretch.subs(eliminated)
+        present = [q for q in coords if q not in eliminated and stretch.has(q)]
+        if coordinate_name is not None:
+            if coordinate_name not in by_name:
+                raise DerivationError(f"rigid {spring_name!r}: {coordinate_name!r} is not a "
+                                      f"coordinate of {mechanism.name!r}")
+            candidates = [by_name[coordinate_name]]
+        else:
+            candidates = list(reversed(present))   # eliminate the last-declared first
+        solution = None
+        for q in candidates:
+            roots = sp.solve(sp.Eq(stretch, 0), q) if stretch.has(q) else []
+            if len(roots) == 1:
+                solution = (q, roots[0])
+                break
+        if solution is None:
+            tried = ", ".join(c.func.__name__ for c in candidates) or "none"
+            raise DerivationError(
+                f"rigid {spring_name!r}: cannot solve stretch = {spring.stretch} = 0 for a "
+                f"unique coordinate (tried: {tried}); rigid springs need a stretch that "
+                "fixes one coordinate through the others")
+        q, expr = solution
+        eliminated = {c: e.subs(q, expr) for c, e in eliminated.items()}
+        eliminated[q] = expr
+    return eliminated
+
+
+def _substitutions(eliminated, plain_of, q, u):
+    """Plain-symbol substitutions for eliminated coordinates and their speeds."""
+    position_subs, speed_subs = {}, {}
+    for c, expr in eliminated.items():
+        g = expr.xreplace(plain_of)
+        position_subs[plain_of[c]] = g
+        speed_subs[dotted_symbol(c.func.__name__, 1)] = (
+            sum((sp.diff(g, qi) * ui for qi, ui in zip(q, u)), sp.S.Zero) + sp.diff(g, t))
+    return position_subs, speed_subs

@@ -1,0 +1,35 @@
+"""The errors mechdyn raises; each message names the culprit (element, parameter, state).
+
+All derive from :class:`MechdynError`, so a script can catch them in one place.
+"""
+
+__all__ = ["MechdynError", "DeclarationError", "DerivationError", "SceneError",
+           "ParameterError", "SimulationError"]
+
+
+class MechdynError(Exception):
+    """Base class of every mechdyn error."""
+
+
+class DeclarationError(MechdynError, ValueError):
+    """A mechanism or element declared wrongly (names, expressions, values)."""
+
+
+class DerivationError(MechdynError, ValueError):
+    """The equations cannot be formed (no inertia in a coordinate, wrong DOF count)."""
+
+
+class SceneError(MechdynError, ValueError):
+    """A scene that does not fit its mechanism (unknown effect, missing initial value)."""
+
+
+class ParameterError(MechdynError, ValueError):
+    """Missing, unknown or invalid parameter values."""
+
+
+class SimulationError(MechdynError, RuntimeError):
+    """The integration failed; ``partial`` holds the result computed up to the failure."""
+
+    def __init__(self, message, partial=None):
+        super().__init__(message)
+        self.partial = partial

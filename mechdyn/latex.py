@@ -1,0 +1,102 @@
+"""Printing of the derivation: energies, forces, reduced quantities, equations.
+
+Time derivatives print with dots, Greek names as Greek letters, ``J_1A`` as ``J_{1A}``.
+
+>>> import mechdyn as md
+>>> phi = md.coordinate("phi")
+>>> disc = md.Mechanism("disc", [phi])
+>>> _ = disc.link("disc", J=2, angle=phi)
+>>> _ = disc.load("drive", 6, along=phi)
+>>> print(disc.latex().splitlines()[2])
+T &= \\dot{\\phi}^{2} \\\\
+"""
+from __future__ import annotations
+
+import sympy as sp
+from sympy.core.function import AppliedUndef
+
+__all__ = ["derivation_latex", "derivation_text", "equations_latex", "derivation_steps"]
+
+_SIMPLIFY_LIMIT = 120      # operations; larger expressions are printed as derived
+
+
+def tidy(expr):
+    """A readable form: simplified when small, as derived when large (speed)."""
+    if isinstance(expr, sp.MatrixBase):
+        return expr.applyfunc(tidy)
+    if isinstance(expr, sp.Eq):
+        return sp.Eq(tidy(expr.lhs), tidy(expr.rhs))
+    if sp.count_ops(expr) > _SIMPLIFY_LIMIT:
+        return expr
+    simpler = sp.simplify(expr)
+    return simpler if sp.count_ops(simpler) <= sp.count_ops(expr) else expr
+
+
+def derivation_steps(eqs) -> list:
+    """The derivation as ``(label, left side LaTeX, left side text, right side)``."""
+    steps = []
+    for c, expr in eqs.eliminated.items():
+        plain = expr.xreplace({q: sp.Symbol(q.func.__name__)
+                               for q in expr.atoms(AppliedUndef)})
+        name = c.func.__name__
+        steps.append(("rigid", sp.latex(sp.Symbol(name)), name, plain))
+    steps.append(("kinetic energy", "T", "T", tidy(eqs.kinetic_energy)))
+    if eqs.potential_energy != 0:
+        steps.append(("potential energy", "V", "V", tidy(eqs.potential_energy)))
+    if eqs.dissipation != 0:
+        steps.append(("dissipation", "D", "D", tidy(eqs.dissipation)))
+    for name, column in eqs.generalized_forces.items():
+        for qi, entry in zip(eqs.q, column):
+            if entry != 0:
+                label = f"Q_{{\\text{{{name}}}, {sp.latex(qi)}}}" if eqs.dof > 1 else \
+                    f"Q_{{\\text{{{name}}}}}"
+                steps.append(("generalized force", label, f"Q[{name}, {qi}]", tidy(entry)))
+    if eqs.dof == 1 and not eqs.rheonomic:
+        inertia = tidy(eqs.reduced_inertia)
+        steps.append(("reduced inertia", "I_{\\mathrm{red}}", "I_red", inertia))
+        steps.append(("reduced moment", "M_{\\mathrm{red}}", "M_red", tidy(eqs.reduced_moment)))
+        q, u, a = eqs.q[0], eqs.u[0], eqs.a[0]
+        textbook = ("I_{\\mathrm{red}} " + sp.latex(a) + " + \\frac{1}{2} \\frac{d I_{\\mathrm{red}}}"
+                    "{d " + sp.latex(q) + "} " + sp.latex(u) + "^{2}")
+        steps.append(("textbook form", textbook, f"I_red*{a} + 1/2*dI_red/d{q}*{u}**2",
+                      sp.Symbol("M_red")))
+        lhs = inertia * a + tidy(sp.diff(inertia, q) / 2) * u ** 2
+        steps.append(("equation of motion", sp.latex(lhs), str(lhs), eqs.textbook_equation.rhs))
+    else:
+        mass = eqs.mass_matrix.applyfunc(tidy)
+        forcing = eqs.forcing.applyfunc(tidy)
+        for i in range(eqs.dof):
+            lhs = sum((mass[i, j] * eqs.a[j] for j in range(eqs.dof)), sp.S.Zero)
+            steps.append(("equation of motion", sp.latex(lhs), str(lhs), forcing[i]))
+    return steps
+
+
+def derivation_latex(eqs) -> str:
+    """The derivation as an ``align*`` block, a line per step."""
+    lines = [f"% mechdyn: {eqs.name}" + (f" (without {', '.join(eqs.excluded)})"
+                                         if eqs.excluded else ""),
+             "\\begin{align*}"]
+    for _, lhs, _, rhs in derivation_steps(eqs):
+        rhs_latex = "M_{\\mathrm{red}}" if rhs == sp.Symbol("M_red") else sp.latex(rhs)
+        lines.append(f"{lhs} &= {rhs_latex}")
+    lines = lines[:2] + [line + " \\\\" for line in lines[2:-1]] + lines[-1:]
+    lines.append("\\end{align*}")
+    return "\n".join(lines)
+
+
+def derivation_text(eqs) -> str:
+    """The derivation as plain text, a labelled line per step."""
+    lines = [f"{eqs.name}: coordinates {', '.join(str(q) for q in eqs.q)}"]
+    if eqs.excluded:
+        lines.append(f"  left out: {', '.join(eqs.excluded)}")
+    for label, _, lhs, rhs in derivation_steps(eqs):
+        lines.append(f"  {label + ':':20s} {lhs} = {sp.sstr(rhs)}")
+    return "\n".join(lines)
+
+
+def equations_latex(eqs) -> str:
+    """The equations of motion alone, one per line."""
+    rows = [f"{sp.latex(tidy(e.lhs))} = {sp.latex(tidy(e.rhs))}" for e in eqs.eqs]
+    return " \\\\ ".join(rows) if len(rows) == 1 else \
+        "\\begin{aligned}" + " \\\\ ".join(r.replace(" = ", " &= ", 1) for r in rows) + \
+        "\\end{aligned}"

@@ -1,0 +1,183 @@
+"""The Mechanism: generalized coordinates, links and loads, declared in Python.
+
+>>> import sympy as sp, mechdyn as md
+>>> phi = md.coordinate("phi")
+>>> J1, m3, l, M1, F3 = sp.symbols("J_1 m_3 l M_1 F_3", positive=True)
+>>> yoke = md.Mechanism("Scotch yoke", coordinates=[phi])
+>>> yoke.link("crank", J=J1, angle=phi)
+Link(name='crank', tags=(), m=0, J=J_1, x=0, y=0, angle=phi(t))
+>>> _ = yoke.link("yoke", m=m3, x=l * sp.cos(phi))
+>>> _ = yoke.load("drive", M1, along=phi)
+>>> _ = yoke.load("resistance", F3, along=l * sp.cos(phi))
+>>> yoke.reduced_inertia()
+J_1 + l**2*m_3*sin(phi)**2
+>>> yoke.reduced_moment()
+-F_3*l*sin(phi) + M_1
+"""
+from __future__ import annotations
+
+import sympy as sp
+from sympy.core.function import AppliedUndef
+
+from .elements import Damper, Element, Friction, Gravity, Link, Load, Spring
+from .errors import DeclarationError
+from .symbols import is_coordinate, t
+
+__all__ = ["Mechanism"]
+
+# What each attribute of an element may depend on: coordinates, speeds, time.
+_ALLOWED = {
+    (Link, "m"): "", (Link, "J"): "",
+    (Link, "x"): "qt", (Link, "y"): "qt", (Link, "angle"): "qt",
+    (Load, "value"): "qvt", (Load, "along"): "qt", (Load, "efficiency"): "",
+    (Spring, "k"): "qt", (Spring, "stretch"): "qt",
+    (Damper, "c"): "qt", (Damper, "stretch"): "qt",
+    (Gravity, "g"): "",
+    (Friction, "moment"): "qvt", (Friction, "along"): "qt",
+}
+_MUST_MOVE = {(Load, "along"), (Spring, "stretch"), (Damper, "stretch"), (Friction, "along")}
+_WORDS = {"q": "the coordinates", "v": "speeds", "t": "the time t"}
+
+
+class Mechanism:
+    """A machine: generalized coordinates, links (inertia and kinematics) and loads.
+
+    Parameters
+    ----------
+    name : str
+        Shown in reports.
+    coordinates : list
+        Generalized coordinates made with :func:`mechdyn.coordinate`.
+    """
+
+    def __init__(self, name: str, coordinates):
+        coordinates = list(coordinates)
+        if not coordinates:
+            raise DeclarationError(f"mechanism {name!r}: give at least one coordinate")
+        for q in coordinates:
+            if not is_coordinate(q):
+                raise DeclarationError(
+                    f"mechanism {name!r}: {q!r} is not a coordinate; "
+                    "make coordinates with md.coordinate('name')")
+        names = [q.func.__name__ for q in coordinates]
+        for n in names:
+            if names.count(n) > 1:
+                raise DeclarationError(f"mechanism {name!r}: coordinate {n!r} declared twice")
+        self.name = name
+        self.coordinates = tuple(coordinates)
+        self.elements: dict[str, Element] = {}
+        self._derived = {}
+
+    # ----------------------------------------------------------------- declaring
+    def add(self, element: Element) -> Element:
+        """Add an element (all the declaring methods below come here)."""
+        if element.name in self.elements:
+            raise DeclarationError(
+                f"mechanism {self.name!r}: an element named {element.name!r} exists already "
+                f"({type(self.elements[element.name]).__name__.lower()}); names must be unique")
+        for attribute, expr in element.expressions().items():
+            self._check_dependencies(element, attribute, expr)
+        self.elements[element.name] = element
+        self._derived.clear()
+        return element
+
+    def link(self, name, m=0, J=0, x=0, y=0, angle=0, tags=()) -> Link:
+        """A rigid link: mass ``m`` at ``(x, y)``, inertia ``J`` about its centre of
+        mass, rotation ``angle`` (expressions of the coordinates)."""
+        return self.add(Link(name, m=m, J=J, x=x, y=y, angle=angle, tags=tags))
+
+    def load(self, name, value, along, efficiency=None, tags=()) -> Load:
+        """A force or moment ``value`` acting along ``along`` (see :class:`Load`)."""
+        return self.add(Load(name, value=value, along=along, efficiency=efficiency, tags=tags))
+
+    def spring(self, name, k, stretch, tags=()) -> Spring:
+        """A linear spring of stiffness ``k`` on ``stretch``."""
+        return self.add(Spring(name, k=k, stretch=stretch, tags=tags))
+
+    def damper(self, name, c, stretch, tags=()) -> Damper:
+        """A viscous damper of coefficient ``c`` on the rate of ``stretch``."""
+        return self.add(Damper(name, c=c, stretch=stretch, tags=tags))
+
+    def gravity(self, g=9.81, name="gravity", tags=()) -> Gravity:
+        """Gravity ``g`` acting along -y on every link."""
+        return self.add(Gravity(name, g=g, tags=tags))
+
+    def friction(self, name, moment, along, tags=()) -> Friction:
+        """Coulomb friction of magnitude ``moment`` along ``along`` (a brake)."""
+        return self.add(Friction(name, moment=moment, along=along, tags=tags))
+
+    def _check_dependencies(self, element, attribute, expr):
+        what = f"{type(element).__name__.lower()} {element.name!r}: {attribute} = {expr}"
+        allowed = _ALLOWED[(type(element), attribute)]
+        coords = set(self.coordinates)
+        speeds = {sp.Derivative(q, t) for q in self.coordinates}
+        for d in expr.atoms(sp.Derivative):
+            if d not in speeds:
+                raise DeclarationError(
+                    f"{what}: {d} is not the speed of a declared coordinate "
+                    f"(declared: {_names(self.coordinates)})")
+            if "v" not in allowed:
+                raise DeclarationError(f"{what}: may not depend on speeds "
+                                       f"(allowed: {_allowed_words(allowed)})")
+        bare = expr.subs({d: 0 for d in expr.atoms(sp.Derivative)}) if "v" in allowed else expr
+        for f in expr.atoms(AppliedUndef):
+            if f not in coords:
+                raise DeclarationError(
+                    f"{what}: {f} is not a declared coordinate of mechanism {self.name!r} "
+                    f"(declared: {_names(self.coordinates)})")
+        if "q" not in allowed and bare.atoms(AppliedUndef):
+            raise DeclarationError(f"{what}: must be constant, not depend on the coordinates")
+        if "t" not in allowed and t in expr.free_symbols:
+            raise DeclarationError(f"{what}: must not depend on the time t")
+        if (type(element), attribute) in _MUST_MOVE and not (expr.atoms(AppliedUndef) & coords):
+            raise DeclarationError(
+                f"{what}: does not depend on the coordinates {_names(self.coordinates)}, "
+                "so it never moves and does no work")
+
+    # ------------------------------------------------------------------ deriving
+    def equations(self, scene=None):
+        """Lagrange's equations ``M(q) q'' = f(q, q', t)`` (an :class:`Equations`),
+        for all elements or for those a :class:`Scene` calls for."""
+        from .derive import derive
+        from .scene import selection
+        key = selection(self, scene)
+        if key not in self._derived:
+            self._derived[key] = derive(self, *key)
+        return self._derived[key]
+
+    def reduced_inertia(self, scene=None):
+        """The reduced (equivalent) moment of inertia of a one-DOF mechanism."""
+        return self.equations(scene).reduced_inertia
+
+    def reduced_moment(self, scene=None):
+        """The reduced moment of a one-DOF mechanism (includes gravity and springs)."""
+        return self.equations(scene).reduced_moment
+
+    def latex(self, scene=None) -> str:
+        """The derivation as LaTeX: energies, forces, reduced quantities, equations."""
+        from .latex import derivation_latex
+        return derivation_latex(self.equations(scene))
+
+    def simulate(self, scene, params=None):
+        """Integrate a :class:`Scene`; returns a :class:`Result`."""
+        from .simulate import simulate
+        return simulate(self, scene, params or {})
+
+    # ------------------------------------------------------------------ viewing
+    def __repr__(self):
+        kinds = {}
+        for e in self.elements.values():
+            kinds[type(e).__name__.lower()] = kinds.get(type(e).__name__.lower(), 0) + 1
+        parts = ", ".join(f"{n} {k}{'s' if n > 1 else ''}" for k, n in kinds.items())
+        return f"Mechanism({self.name!r}, coordinates {_names(self.coordinates)}; {parts})"
+
+    def _repr_latex_(self):
+        return self.equations()._repr_latex_()
+
+
+def _names(coordinates):
+    return "[" + ", ".join(q.func.__name__ for q in coordinates) + "]"
+
+
+def _allowed_words(allowed):
+    return ", ".join(_WORDS[c] for c in allowed) or "constants only"

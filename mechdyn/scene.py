@@ -1,0 +1,167 @@
+"""Scenes: what to simulate — which effects, which springs rigid, the initial state,
+when to stop, what to record, and how to integrate.
+
+>>> import sympy as sp, mechdyn as md
+>>> phi = md.coordinate("phi")
+>>> braking = md.Scene("braking", effects=["shoe"], initial={phi: 0, md.speed(phi): 100},
+...                    until=md.stopped(phi))
+>>> braking.until
+(stopped(phi(t)),)
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import sympy as sp
+
+from .elements import Link, as_expression
+from .errors import SceneError
+from .symbols import is_coordinate, t
+
+__all__ = ["Scene", "StopCondition", "stopped", "reaches", "selection"]
+
+
+@dataclass(frozen=True)
+class StopCondition:
+    """Stop when ``expression`` reaches ``value`` (crossing in ``direction``: +1 rising,
+    -1 falling, 0 either way)."""
+    expression: sp.Expr
+    value: sp.Expr = sp.S.Zero
+    direction: int = 0
+    label: str = ""
+
+    def __repr__(self):
+        return self.label or f"reaches({self.expression}, {self.value})"
+
+
+def stopped(q) -> StopCondition:
+    """Stop when the coordinate ``q`` comes to rest (its speed reaches zero)."""
+    if not is_coordinate(q):
+        raise SceneError(f"stopped(): {q!r} is not a coordinate")
+    return StopCondition(sp.Derivative(q, t), sp.S.Zero, 0, f"stopped({q})")
+
+
+def reaches(expression, value, direction=0) -> StopCondition:
+    """Stop when ``expression`` (of coordinates, speeds, t, parameters) reaches ``value``."""
+    expression = as_expression(expression, "reaches(): expression")
+    value = as_expression(value, "reaches(): value")
+    return StopCondition(expression, value, int(direction))
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A simulation scenario on a mechanism.
+
+    Parameters
+    ----------
+    name : str
+    effects : list of str, optional
+        Names or tags of the loads, springs, dampers, gravity and friction to include;
+        ``None`` includes every element. Links are always included.
+    initial : dict
+        Initial values of coordinates and speeds (``md.speed(q)``); missing ones are an
+        error, values may be numbers or expressions of parameters.
+    until : StopCondition or list of them, optional
+        Stop at the first one met (``md.stopped``, ``md.reaches``).
+    t_end : float, optional
+        End time; required without ``until`` (defaults to 1000 s with it).
+    outputs : list, optional
+        Element names (their generalized force along their own coordinate, e.g. a
+        spring's moment), ``"power:NAME"``, or expressions to record.
+    rigid : list or dict, optional
+        Springs made rigid: ``stretch = 0`` eliminates a coordinate (a dict maps a
+        spring name to the coordinate to eliminate).
+    method : str
+        ``"auto"`` or a ``solve_ivp`` method name.
+    rtol, atol : float
+        Tolerances.
+    """
+    name: str
+    effects: tuple | None = None
+    initial: dict = field(default_factory=dict)
+    until: tuple = ()
+    t_end: float | None = None
+    outputs: tuple = ()
+    rigid: tuple = ()
+    method: str = "auto"
+    rtol: float = 1e-8
+    atol: float = 1e-10
+    t_start: float = 0.0
+
+    def __post_init__(self):
+        if self.effects is not None:
+            effects = (self.effects,) if isinstance(self.effects, str) else tuple(self.effects)
+            object.__setattr__(self, "effects", effects)
+        until = self.until
+        if isinstance(until, StopCondition):
+            until = (until,)
+        until = tuple(until or ())
+        for condition in until:
+            if not isinstance(condition, StopCondition):
+                raise SceneError(f"scene {self.name!r}: until must hold md.stopped(...) or "
+                                 f"md.reaches(...), got {condition!r}")
+        object.__setattr__(self, "until", until)
+        if isinstance(self.rigid, dict):
+            rigid = tuple((str(k), _coordinate_name(v)) for k, v in self.rigid.items())
+        else:
+            rigid = tuple((r, None) if isinstance(r, str) else (r[0], _coordinate_name(r[1]))
+                          for r in ((self.rigid,) if isinstance(self.rigid, str) else self.rigid))
+        object.__setattr__(self, "rigid", rigid)
+        outputs = (self.outputs,) if isinstance(self.outputs, str) else tuple(self.outputs)
+        object.__setattr__(self, "outputs", outputs)
+        if self.t_end is None and not until:
+            raise SceneError(f"scene {self.name!r}: give t_end or a stop condition (until=)")
+        if self.t_end is not None and not self.t_end > self.t_start:
+            raise SceneError(f"scene {self.name!r}: t_end = {self.t_end} must be later "
+                             f"than the start {self.t_start}")
+        for tol in ("rtol", "atol"):
+            if not getattr(self, tol) > 0:
+                raise SceneError(f"scene {self.name!r}: {tol} must be positive")
+
+    @property
+    def time_limit(self) -> float:
+        return self.t_end if self.t_end is not None else self.t_start + 1000.0
+
+
+def _coordinate_name(q):
+    if q is None or isinstance(q, str):
+        return q
+    if is_coordinate(q):
+        return q.func.__name__
+    raise SceneError(f"rigid: {q!r} is not a coordinate")
+
+
+def selection(mechanism, scene) -> tuple:
+    """The element names a scene includes and its rigid springs, checked.
+
+    Returns ``(names, rigid)``, the key under which equations are derived and cached.
+    """
+    from .elements import Spring
+    loads = [n for n, e in mechanism.elements.items() if not isinstance(e, Link)]
+    if scene is None:
+        return tuple(loads), ()
+    if not isinstance(scene, Scene):
+        raise SceneError(f"expected a md.Scene, got {scene!r}")
+    if scene.effects is None:
+        chosen = set(loads)
+    else:
+        chosen = set()
+        for effect in scene.effects:
+            hits = {n for n in loads
+                    if n == effect or effect in mechanism.elements[n].tags}
+            if not hits:
+                links = [n for n, e in mechanism.elements.items() if isinstance(e, Link)]
+                hint = (f" ({effect!r} is a link; links are always included)"
+                        if effect in links else "")
+                raise SceneError(
+                    f"scene {scene.name!r}: unknown effect {effect!r}{hint}; the loads of "
+                    f"{mechanism.name!r} are {sorted(loads)} with tags "
+                    f"{sorted({tag for n in loads for tag in mechanism.elements[n].tags})}")
+            chosen |= hits
+    for name, _ in scene.rigid:
+        element = mechanism.elements.get(name)
+        if not isinstance(element, Spring):
+            raise SceneError(f"scene {scene.name!r}: rigid {name!r} is not a spring of "
+                             f"{mechanism.name!r}")
+    names = tuple(n for n in loads if n in chosen)
+    return names, tuple(scene.rigid)

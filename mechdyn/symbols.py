@@ -1,0 +1,97 @@
+"""Time, generalized coordinates and their plain-symbol stand-ins.
+
+A user writes positions as expressions of coordinates, which are functions of the time
+``t``. The derivation works on plain symbols instead: a coordinate ``phi`` becomes the
+symbol ``phi``, its speed the symbol ``phidot`` (printed as a dotted phi), its
+acceleration ``phiddot``.
+
+>>> import mechdyn as md
+>>> phi = md.coordinate("phi")
+>>> md.speed(phi)
+Derivative(phi(t), t)
+>>> md.plain(phi), md.plain(md.speed(phi))
+(phi, phidot)
+"""
+from __future__ import annotations
+
+import sympy as sp
+from sympy.core.function import AppliedUndef
+from sympy.printing.conventions import split_super_sub
+
+__all__ = ["t", "coordinate", "coordinates", "speed", "acceleration", "plain",
+           "is_coordinate", "dotted_symbol"]
+
+t = sp.Symbol("t", real=True)
+
+
+def coordinate(name: str) -> sp.Expr:
+    """A generalized coordinate: the function ``name(t)`` of the time ``md.t``.
+
+    >>> coordinate("phi_2")
+    phi_2(t)
+    """
+    if not isinstance(name, str) or not name.isidentifier():
+        raise ValueError(f"coordinate name must be an identifier, got {name!r}")
+    return sp.Function(name)(t)
+
+
+def coordinates(names: str) -> tuple:
+    """Several coordinates from one string of names separated by spaces or commas.
+
+    >>> coordinates("phi_1 phi_2")
+    (phi_1(t), phi_2(t))
+    """
+    return tuple(coordinate(n) for n in names.replace(",", " ").split())
+
+
+def is_coordinate(expr) -> bool:
+    """True for an applied undefined function of ``t`` alone, such as ``phi(t)``."""
+    return isinstance(expr, AppliedUndef) and expr.args == (t,)
+
+
+def _check_coordinate(q):
+    if not is_coordinate(q):
+        raise TypeError(f"{q!r} is not a coordinate; make one with md.coordinate('name')")
+
+
+def speed(q) -> sp.Expr:
+    """The speed dq/dt of a coordinate (an angular speed for an angle)."""
+    _check_coordinate(q)
+    return sp.Derivative(q, t)
+
+
+def acceleration(q) -> sp.Expr:
+    """The acceleration d2q/dt2 of a coordinate."""
+    _check_coordinate(q)
+    return sp.Derivative(q, (t, 2))
+
+
+def dotted_symbol(name: str, dots: int) -> sp.Symbol:
+    """The plain symbol for the ``dots``-th time derivative of the coordinate ``name``.
+
+    The modifier goes on the base of the name so subscripts print right:
+    ``phi_2`` with one dot is ``phidot_2``, printed as a dotted phi with subscript 2.
+    """
+    if dots == 0:
+        return sp.Symbol(name)
+    base, sups, subs = split_super_sub(name)
+    text = base + ("dot" if dots == 1 else "ddot")
+    if subs:
+        text += "_" + "_".join(subs)
+    if sups:
+        text += "__" + "__".join(sups)
+    return sp.Symbol(text)
+
+
+def plain(expr) -> sp.Symbol:
+    """The plain symbol of a coordinate, its speed or its acceleration.
+
+    Reduced quantities and derived equations are written in these symbols.
+    """
+    if is_coordinate(expr):
+        return dotted_symbol(expr.func.__name__, 0)
+    if isinstance(expr, sp.Derivative) and is_coordinate(expr.expr):
+        order = sum(n for v, n in expr.variable_count if v == t)
+        if order in (1, 2) and len(expr.variable_count) == 1:
+            return dotted_symbol(expr.expr.func.__name__, order)
+    raise TypeError(f"{expr!r} is not a coordinate, a speed or an acceleration")
