@@ -8,6 +8,7 @@ from .elements import Damper, Friction, Gravity, Link, Load, Spring
 from .errors import (DeclarationError, DerivationError, MechdynError, ParameterError,
                      SceneError, SimulationError)
 from .mechanism import Mechanism
+from .model_file import Model, load_model
 from .scene import Scene, reaches, stopped
 from .symbols import acceleration, coordinate, coordinates, plain, speed, t
 
@@ -15,7 +16,7 @@ __version__ = "0.1.0"
 
 __all__ = [
     "Mechanism", "Link", "Load", "Spring", "Damper", "Gravity", "Friction",
-    "Scene", "stopped", "reaches",
+    "Scene", "stopped", "reaches", "Model", "load_model",
     "t", "coordinate", "coordinates", "speed", "acceleration", "plain",
     "MechdynError", "DeclarationError", "DerivationError", "SceneError",
     "ParameterError", "SimulationError",
