@@ -6,7 +6,7 @@ when to stop, what to record, and how to integrate.
 >>> braking = md.Scene("braking", effects=["shoe"], initial={phi: 0, md.speed(phi): 100},
 ...                    until=md.stopped(phi))
 >>> braking.until
-(stopped(phi(t)),)
+(stopped(phi),)
 """
 from __future__ import annotations
 
@@ -31,21 +31,32 @@ class StopCondition:
     label: str = ""
 
     def __repr__(self):
-        return self.label or f"reaches({self.expression}, {self.value})"
+        return self.label
 
 
 def stopped(q) -> StopCondition:
     """Stop when the coordinate ``q`` comes to rest (its speed reaches zero)."""
     if not is_coordinate(q):
         raise SceneError(f"stopped(): {q!r} is not a coordinate")
-    return StopCondition(sp.Derivative(q, t), sp.S.Zero, 0, f"stopped({q})")
+    return StopCondition(sp.Derivative(q, t), sp.S.Zero, 0, f"stopped({q.func.__name__})")
 
 
 def reaches(expression, value, direction=0) -> StopCondition:
     """Stop when ``expression`` (of coordinates, speeds, t, parameters) reaches ``value``."""
     expression = as_expression(expression, "reaches(): expression")
     value = as_expression(value, "reaches(): value")
-    return StopCondition(expression, value, int(direction))
+    return StopCondition(expression, value, int(direction),
+                         f"reaches({_readable(expression)}, {_readable(value)})")
+
+
+def _readable(expr) -> str:
+    """An expression with coordinates and speeds written as their plain symbols."""
+    from sympy.core.function import AppliedUndef
+
+    from .symbols import plain
+    subs = {d: plain(d) for d in expr.atoms(sp.Derivative)}
+    expr = expr.xreplace(subs)
+    return str(expr.xreplace({f: plain(f) for f in expr.atoms(AppliedUndef)}))
 
 
 @dataclass(frozen=True)

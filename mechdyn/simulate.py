@@ -1,0 +1,430 @@
+"""Simulation: integrate a compiled scene with scipy's solvers, stop conditions and
+Coulomb friction with true stick and slip.
+
+Friction follows the state machine of Modelica's friction elements. A sliding element
+pushes with ``-sign * magnitude`` (its sign held fixed for the segment) until its sliding
+rate reaches zero (an event located on the solver's dense output). There the speeds are
+projected so the rate is exactly zero, and the element sticks if the constraint force
+needed to hold it, ``lambda`` from ``[M -G'; G 0] [a; lambda] = [f; -bias]``, stays within
+its magnitude; a stuck element releases (an event on ``magnitude - |lambda|``) and slides
+the way the net force pushes. A coordinate held by a stuck friction keeps exactly zero
+speed. No ``sign()`` chattering, no smoothing creep.
+
+>>> import mechdyn as md
+>>> model = md.load_model("models/shoe_brake.py")
+>>> res = model.mechanism.simulate(model.scenes["braking"], model.params)
+>>> round(res.t_end, 9), round(res.final(model.mechanism.coordinates[0]), 6)
+(50.0, 2500.0)
+"""
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+import sympy as sp
+from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, Radau
+from scipy.optimize import brentq
+
+from .compile import SingularMassError, compile_scene
+from .elements import Link
+from .errors import ParameterError, SceneError, SimulationError
+from .result import Event, Result, Trajectory
+from .scene import Scene
+
+__all__ = ["simulate", "choose_method", "METHODS"]
+
+METHODS = {"RK45": RK45, "RK23": RK23, "DOP853": DOP853, "Radau": Radau, "BDF": BDF,
+           "LSODA": LSODA}
+_WITH_JACOBIAN = {"Radau", "BDF", "LSODA"}
+_STIFFNESS_LIMIT = 2000.0   # explicit steps forced by stability alone; see choose_method
+_EPS = np.finfo(float).eps
+
+
+def simulate(mechanism, scene: Scene, params: dict) -> Result:
+    """Integrate ``scene`` on ``mechanism`` with parameter values ``params``.
+
+    Raises :class:`SimulationError` (with ``.partial``, the result up to the failure)
+    when the integration fails: NaN or overflow, a singular mass matrix, step size
+    collapse.
+    """
+    if not isinstance(scene, Scene):
+        raise SceneError(f"simulate() needs a md.Scene, got {scene!r}")
+    compiled = compile_scene(mechanism, scene)
+    _check_links(mechanism, params)
+    p = compiled.parameter_vector(params)
+    y0 = _initial_state(compiled, mechanism, scene, params)
+    atol = _atol_vector(compiled, scene)
+    method = scene.method
+    if method == "auto":
+        method = choose_method(compiled, p, y0, scene.t_start, scene.time_limit, scene.rtol)
+    elif method not in METHODS:
+        raise SceneError(f"scene {scene.name!r}: unknown method {method!r}; "
+                         f"use 'auto' or one of {', '.join(METHODS)}")
+    return _Run(compiled, p, scene, method, atol, mechanism).execute(y0)
+
+
+# --------------------------------------------------------------------- inputs
+def _by_name(params):
+    return {str(k): v for k, v in params.items()}
+
+
+def _check_links(mechanism, params):
+    values = _by_name(params)
+    for link in mechanism.elements.values():
+        if not isinstance(link, Link):
+            continue
+        for attribute in ("m", "J"):
+            expr = getattr(link, attribute)
+            if expr.is_number:
+                continue
+            subs = {s: values[s.name] for s in expr.free_symbols if s.name in values}
+            value = expr.subs(subs)
+            if value.is_number and value < 0:
+                raise ParameterError(f"link {link.name!r}: {attribute} = {expr} = {value} is "
+                                     "negative; masses and inertias must not be negative")
+
+
+def _initial_state(compiled, mechanism, scene, params) -> np.ndarray:
+    n = compiled.dof
+    declared = {q.func.__name__ for q in mechanism.coordinates}
+    slots = {}
+    for i, name in enumerate(compiled.coordinates):
+        slots[("q", name)] = i
+        slots[("u", name)] = n + i
+    values = {str(k): v for k, v in params.items()}
+    y0 = np.full(2 * n, np.nan)
+    for key, value in scene.initial.items():
+        slot = _initial_slot(key, declared, scene)
+        if slot[1] not in compiled.coordinates:
+            continue                                  # a coordinate made rigid
+        expr = value if isinstance(value, sp.Basic) else None
+        if expr is not None:
+            expr = expr.subs({s: values[s.name] for s in expr.free_symbols if s.name in values})
+            if not expr.is_number:
+                raise SceneError(f"scene {scene.name!r}: initial value of {key} = {value} has "
+                                 f"no number (unknown: {sorted(map(str, expr.free_symbols))})")
+            value = expr
+        try:
+            y0[slots[slot]] = float(value)
+        except (TypeError, ValueError):
+            raise SceneError(f"scene {scene.name!r}: initial value of {key} = {value!r} is "
+                             "not a number") from None
+        if not math.isfinite(y0[slots[slot]]):
+            raise SceneError(f"scene {scene.name!r}: initial value of {key} is not finite")
+    missing = [compiled.state_names[i] for i in range(2 * n) if np.isnan(y0[i])]
+    if missing:
+        raise SceneError(f"scene {scene.name!r}: missing initial values for "
+                         f"{', '.join(missing)} (give them in initial={{q: ..., "
+                         "md.speed(q): ...}})")
+    return y0
+
+
+def _initial_slot(key, declared, scene):
+    from .symbols import is_coordinate, t
+    if is_coordinate(key) and key.func.__name__ in declared:
+        return ("q", key.func.__name__)
+    if isinstance(key, sp.Derivative) and is_coordinate(key.expr) and \
+            key.variable_count == ((t, 1),) and key.expr.func.__name__ in declared:
+        return ("u", key.expr.func.__name__)
+    raise SceneError(f"scene {scene.name!r}: initial value given for {key}, which is not a "
+                     f"declared coordinate or its speed (coordinates: {sorted(declared)})")
+
+
+def _atol_vector(compiled, scene):
+    if not isinstance(scene.atol, dict):
+        return float(scene.atol)
+    default = float(scene.atol.get("default", 1e-10))
+    vector = np.full(len(compiled.state_names), default)
+    for key, value in scene.atol.items():
+        if key == "default":
+            continue
+        name = str(key.func.__name__) if hasattr(key, "func") and not isinstance(
+            key, sp.Derivative) else None
+        if isinstance(key, sp.Derivative):
+            index = compiled.dof + compiled.coordinates.index(key.expr.func.__name__)
+        elif name in compiled.coordinates:
+            index = compiled.coordinates.index(name)
+        else:
+            raise SceneError(f"scene {scene.name!r}: atol for {key}, not a state")
+        vector[index] = float(value)
+    return vector
+
+
+def choose_method(compiled, p, y0, t0, t_limit, rtol) -> str:
+    """Pick an integrator by measuring the problem: the spectral radius of the analytic
+    Jacobian at the start against the slowest time scale of the run.
+
+    If stability alone would force an explicit method to take more than
+    ``_STIFFNESS_LIMIT`` steps, the problem is stiff: Radau with the analytic Jacobian.
+    Otherwise DOP853 (tight tolerances) or RK45 (loose ones). The slow scale is the
+    smallest non-zero eigenvalue magnitude, or the run length when the motion has a
+    rigid-body (zero) mode.
+    """
+    jacobian = compiled.jac(t0, y0, p)
+    if not np.all(np.isfinite(jacobian)):
+        return "Radau"
+    eigenvalues = np.abs(np.linalg.eigvals(jacobian))
+    fastest = eigenvalues.max(initial=0.0)
+    scale = max(fastest, 1.0) * 1e-9
+    nonzero = eigenvalues[eigenvalues > scale]
+    has_rigid_mode = len(nonzero) < len(eigenvalues)
+    slowest = 1.0 / (t_limit - t0) if has_rigid_mode or len(nonzero) == 0 else nonzero.min()
+    if has_rigid_mode and len(nonzero):
+        slowest = max(slowest, min(nonzero.min(), 1.0))
+    if fastest / max(slowest, 1e-300) > _STIFFNESS_LIMIT:
+        return "Radau"
+    return "DOP853" if rtol < 1e-6 else "RK45"
+
+
+# ------------------------------------------------------------------- the run
+class _Mode:
+    """Friction signs of one segment: +1/-1 sliding that way, 0 stuck."""
+
+    def __init__(self, signs):
+        self.signs = list(signs)
+        self.stuck = [k for k, s in enumerate(signs) if s == 0]
+
+
+class _Run:
+    def __init__(self, compiled, p, scene, method, atol, mechanism):
+        self.c, self.scene, self.method, self.atol = compiled, scene, method, atol
+        self.n = compiled.dof
+        self.k = len(compiled.frictions)
+        self.base = p[:len(p) - self.k]
+        self.trajectory = Trajectory(compiled)
+        self.events: list[Event] = []
+        self.stats = {"method": method, "steps": 0, "nfev": 0, "njev": 0, "nlu": 0,
+                      "segments": 0, "failed_steps": 0}
+        self.mechanism_name = mechanism.name
+        self.units = getattr(mechanism, "units", {})
+
+    # ------------------------------------------------------------- friction
+    def _terms(self, t, y, p):
+        n, k = self.n, self.k
+        v = self.c.terms(t, y, p)
+        mass = np.array(v[:n * n]).reshape(n, n)
+        forcing = np.array(v[n * n:n * n + n])
+        o = n * n + n
+        grads = np.array(v[o:o + k * n]).reshape(k, n)
+        o += k * n
+        bias, magnitude, rate = (np.array(v[o:o + k]), np.array(v[o + k:o + 2 * k]),
+                                 np.array(v[o + 2 * k:o + 3 * k]))
+        return mass, forcing, grads, bias, magnitude, rate
+
+    def _constrained(self, t, y, p, stuck):
+        """Accelerations and holding forces with the ``stuck`` frictions as constraints."""
+        mass, forcing, grads, bias, magnitude, rate = self._terms(t, y, p)
+        n, m = self.n, len(stuck)
+        g = grads[stuck]
+        system = np.zeros((n + m, n + m))
+        system[:n, :n] = mass
+        system[:n, n:] = -g.T
+        system[n:, :n] = g
+        rhs = np.concatenate([forcing, -bias[stuck]])
+        try:
+            solution = np.linalg.solve(system, rhs)
+        except np.linalg.LinAlgError:
+            raise SingularMassError(", ".join(self.c.coordinates), t, y) from None
+        return solution[:n], solution[n:], magnitude
+
+    def _decide(self, t, y):
+        """Friction modes at a state: slide the way they move, else stick if they can."""
+        if not self.k:
+            return _Mode([])
+        _, _, _, _, _, rate = self._terms(t, y, self.base + [0.0] * self.k)
+        speed_scale = 1.0 + float(np.max(np.abs(y[self.n:]), initial=0.0))
+        signs = [math.copysign(1.0, r) if abs(r) > 1e-12 * speed_scale else 0.0 for r in rate]
+        while 0.0 in signs:
+            stuck = [k for k, s in enumerate(signs) if s == 0]
+            _, holding, magnitude = self._constrained(t, y, self.base + signs, stuck)
+            excess = [abs(h) - magnitude[k] for h, k in zip(holding, stuck)]
+            worst = int(np.argmax(excess))
+            if excess[worst] <= 1e-12 * (magnitude[stuck[worst]] + abs(holding[worst])):
+                break
+            kk = stuck[worst]
+            signs[kk] = -math.copysign(1.0, holding[worst])
+            self.events.append(Event(t, "slip", self.c.frictions[kk],
+                                     f"slides {'forward' if signs[kk] > 0 else 'backward'}"))
+        return _Mode(signs)
+
+    def _project(self, t, y, mode):
+        """Make the sliding rates of stuck frictions exactly zero (speeds projected with
+        the mass matrix as metric, i.e. by an impulse)."""
+        y = np.array(y, dtype=float)
+        if not mode.stuck:
+            return y
+        mass, _, grads, _, _, rate = self._terms(t, y, self.base + mode.signs)
+        g = grads[mode.stuck]
+        w = np.linalg.solve(mass, g.T)
+        y[self.n:] -= w @ np.linalg.solve(g @ w, rate[mode.stuck])
+        for k in mode.stuck:
+            if self.c.frozen[k] >= 0:
+                y[self.n + self.c.frozen[k]] = 0.0
+        return y
+
+    # -------------------------------------------------------- right-hand sides
+    def _functions(self, mode):
+        p = self.base + mode.signs
+        rhs = self.c.rhs
+        if not mode.stuck:
+            jac = (lambda t, y: self.c.jac(t, y, p)) if self.method in _WITH_JACOBIAN else None
+            return (lambda t, y: rhs(t, y, p)), jac, p
+        frozen = [self.c.frozen[k] for k in mode.stuck if self.c.frozen[k] >= 0]
+        n = self.n
+
+        def stuck_rhs(t, y):
+            a, _, _ = self._constrained(t, y, p, mode.stuck)
+            dy = np.concatenate([y[n:], a])
+            for i in frozen:
+                dy[i] = 0.0
+                dy[n + i] = 0.0
+            return dy
+        return stuck_rhs, None, p
+
+    def _event_functions(self, mode, p, t0, y0):
+        """(function, direction, kind, index) of the events watched in a segment."""
+        watched = []
+        for i, stop in enumerate(self.c.stops):
+            g0 = stop(t0, y0, p)
+            if g0 != 0:
+                watched.append(((lambda t, y, f=stop: f(t, y, p)), -math.copysign(1, g0),
+                                "stop", i))
+        for k, sign in enumerate(mode.signs):
+            if sign != 0:
+                watched.append(((lambda t, y, k=k: self._terms(t, y, p)[5][k]), -sign,
+                                "stick", k))
+            else:
+                position = mode.stuck.index(k)
+
+                def holding(t, y, k=k, position=position):
+                    _, lam, magnitude = self._constrained(t, y, p, mode.stuck)
+                    return magnitude[k] - abs(lam[position])
+                watched.append((holding, -1, "release", k))
+        return watched
+
+    # ------------------------------------------------------------------ driver
+    def execute(self, y0) -> Result:
+        t, t_limit = self.scene.t_start, self.scene.time_limit
+        y = np.array(y0, dtype=float)
+        for i, stop in enumerate(self.c.stops):
+            if stop(t, y, self.base + [0.0] * self.k) == 0:
+                raise SceneError(f"scene {self.scene.name!r}: stop condition "
+                                 f"{self.c.stop_labels[i]} is already met at the start")
+        started = time.perf_counter()
+        reason = "t_end"
+        try:
+            mode = self._decide(t, y)
+            y = self._project(t, y, mode)
+            while True:
+                outcome = self._segment(mode, t, y, t_limit)
+                if outcome is None:
+                    break
+                t, y, fired = outcome
+                stops = [i for kind, i in fired if kind == "stop"]
+                frictions = [(kind, i) for kind, i in fired if kind != "stop"]
+                if frictions:
+                    signs = list(mode.signs)
+                    for kind, i in frictions:
+                        signs[i] = 0.0
+                    y = self._project(t, y, _Mode(signs))
+                    mode = self._decide(t, y)
+                    for kind, i in frictions:
+                        if kind == "stick" and i in mode.stuck:
+                            self.events.append(Event(t, "stick", self.c.frictions[i],
+                                                     "sliding stopped, held by friction"))
+                    y = self._project(t, y, mode)
+                    self.trajectory.replace_last_state(y)
+                if stops:
+                    reason = self.c.stop_labels[stops[0]]
+                    self.events.append(Event(t, "end", reason, "stop condition met"))
+                    break
+        except SimulationError as error:
+            self.stats["wall_time"] = time.perf_counter() - started
+            error.partial = self._result("failed: " + str(error))
+            if not str(error).startswith("integration"):
+                error.args = (f"integration failed: {error}",)
+            raise
+        if reason == "t_end" and self.c.stops:
+            reason = "t_end (stop condition not reached)"
+        self.stats["wall_time"] = time.perf_counter() - started
+        return self._result(reason)
+
+    def _segment(self, mode, t0, y0, t_limit):
+        """Integrate one mode from ``t0`` until an event or the time limit.
+
+        Returns ``(t, y, fired)`` at an event, ``None`` at the time limit."""
+        if t0 >= t_limit:
+            return None
+        fun, jac, p = self._functions(mode)
+        watched = self._event_functions(mode, p, t0, y0)
+        options = {"rtol": self.scene.rtol, "atol": self.atol}
+        if jac is not None:
+            options["jac"] = jac
+        solver = METHODS[self.method](fun, t0, y0, t_limit, **options)
+        self.stats["segments"] += 1
+        segment = self.trajectory.start_segment(t0, y0, mode.signs, mode.stuck)
+        g_old = [w[0](t0, y0) for w in watched]
+        try:
+            while solver.status == "running":
+                t_old = solver.t
+                message = solver.step()
+                self.stats["steps"] += 1
+                if solver.status == "failed":
+                    raise SimulationError(f"integration failed at t = {solver.t:.6g} s: "
+                                          f"{message}; state {self._state_text(solver.y)}")
+                y_new = solver.y
+                if not np.all(np.isfinite(y_new)):
+                    raise SimulationError(f"integration failed at t = {solver.t:.6g} s: the "
+                                          f"state became non-finite ({self._state_text(y_new)})")
+                dense = solver.dense_output()
+                g_new = [w[0](solver.t, y_new) for w in watched]
+                fired = self._locate(watched, g_old, g_new, dense, t_old, solver.t)
+                if fired:
+                    t_event, indices = fired
+                    y_event = dense(t_event)
+                    segment.add(t_event, y_event, dense)
+                    return t_event, y_event, [(watched[i][2], watched[i][3]) for i in indices]
+                segment.add(solver.t, y_new, dense)
+                g_old = g_new
+        except (ArithmeticError, ValueError) as error:
+            raise SimulationError(
+                f"integration failed near t = {solver.t:.6g} s: {type(error).__name__}: "
+                f"{error} while evaluating the equations at state "
+                f"{self._state_text(solver.y)}") from error
+        finally:
+            self._count(solver)
+        return None
+
+    @staticmethod
+    def _locate(watched, g_old, g_new, dense, t_old, t_new):
+        """The earliest event in the step and every event at that same instant."""
+        roots = []
+        for i, ((function, direction, _, _), a, b) in enumerate(zip(watched, g_old, g_new)):
+            crossed = (a < 0 <= b) if direction > 0 else (a > 0 >= b)
+            if a == 0 or not crossed:
+                continue
+            if b == 0:
+                root = t_new
+            else:
+                root = brentq(lambda s: function(s, dense(s)), t_old, t_new,
+                              xtol=4 * _EPS, rtol=4 * _EPS)
+            roots.append((root, i))
+        if not roots:
+            return None
+        first = min(r for r, _ in roots)
+        same = 1e-12 * max(1.0, abs(first))
+        return first, [i for r, i in roots if r - first <= same]
+
+    def _count(self, solver):
+        """Add a finished segment's solver counts to the run's statistics."""
+        self.stats["nfev"] += solver.nfev
+        self.stats["njev"] += getattr(solver, "njev", 0)
+        self.stats["nlu"] += getattr(solver, "nlu", 0)
+
+    def _state_text(self, y):
+        return ", ".join(f"{name} = {value:.6g}" for name, value in zip(self.c.state_names, y))
+
+    def _result(self, reason) -> Result:
+        return Result(self.c, self.trajectory, self.events, reason, dict(self.stats),
+                      self.base, self.scene, self.mechanism_name, self.units, self)
