@@ -57,7 +57,13 @@ def load_model(path) -> Model:
     path = Path(path)
     if not path.is_file():
         raise ModelFileError(f"model file {path} not found")
-    namespace = runpy.run_path(str(path), run_name="mechdyn_model")
+    try:
+        namespace = runpy.run_path(str(path), run_name="mechdyn_model")
+    except MechdynError as error:
+        raise ModelFileError(f"{path}: {error}") from error
+    except Exception as error:
+        line = _line_in(error, path)
+        raise ModelFileError(f"{path}{line}: {type(error).__name__}: {error}") from error
     mechanism = namespace.get("mechanism")
     if not isinstance(mechanism, Mechanism):
         raise ModelFileError(f"{path} defines no `mechanism` (a md.Mechanism); a model file "
@@ -68,3 +74,13 @@ def load_model(path) -> Model:
             raise ModelFileError(f"{path}: scenes[{name!r}] is not a md.Scene")
     return Model(path, mechanism, dict(namespace.get("params") or {}), scenes,
                  (namespace.get("__doc__") or "").strip())
+
+
+def _line_in(error, path) -> str:
+    """``", line N"`` of the deepest traceback frame inside the model file."""
+    line, tb = "", error.__traceback__
+    while tb is not None:
+        if Path(tb.tb_frame.f_code.co_filename).resolve() == path.resolve():
+            line = f", line {tb.tb_lineno}"
+        tb = tb.tb_next
+    return line
