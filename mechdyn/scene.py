@@ -41,12 +41,13 @@ def stopped(q) -> StopCondition:
     return StopCondition(sp.Derivative(q, t), sp.S.Zero, 0, f"stopped({q.func.__name__})")
 
 
-def reaches(expression, value, direction=0) -> StopCondition:
-    """Stop when ``expression`` (of coordinates, speeds, t, parameters) reaches ``value``."""
+def reaches(expression, value, direction=0, label=None) -> StopCondition:
+    """Stop when ``expression`` (of coordinates, speeds, t, parameters) reaches ``value``;
+    ``label`` names the condition in results (default: the condition written out)."""
     expression = as_expression(expression, "reaches(): expression")
     value = as_expression(value, "reaches(): value")
     return StopCondition(expression, value, int(direction),
-                         f"reaches({_readable(expression)}, {_readable(value)})")
+                         label or f"reaches({_readable(expression)}, {_readable(value)})")
 
 
 def _readable(expr) -> str:
