@@ -4,6 +4,9 @@ Declare a mechanism (links and loads as sympy expressions of generalized coordin
 derive Lagrange's equations and the reduced quantities, print them as LaTeX, compile and
 simulate scenes.
 """
+from .analytic import (AnalyticError, Classification, DrivingMoment, Motion, Solution,
+                       StopPoint, classify, closed_form, driving_moment,
+                       uniform_acceleration, uniform_rotation)
 from .elements import Damper, Friction, Gravity, Link, Load, Spring
 from .errors import (DeclarationError, DerivationError, MechdynError, ParameterError,
                      SceneError, SimulationError)
@@ -20,4 +23,7 @@ __all__ = [
     "t", "coordinate", "coordinates", "speed", "acceleration", "plain",
     "MechdynError", "DeclarationError", "DerivationError", "SceneError",
     "ParameterError", "SimulationError",
+    "classify", "closed_form", "driving_moment", "uniform_rotation",
+    "uniform_acceleration", "Classification", "Solution", "StopPoint", "Motion",
+    "DrivingMoment", "AnalyticError",
 ]
