@@ -158,6 +158,12 @@ class Mechanism:
         from .latex import derivation_latex
         return derivation_latex(self.equations(scene))
 
+    def compile(self, scene):
+        """The scene's compiled functions (``rhs``, ``jac`` in solve_ivp's ``(t, y)``
+        form after binding ``p``), cached: a :class:`~mechdyn.compile.CompiledScene`."""
+        from .compile import compile_scene
+        return compile_scene(self, scene)
+
     def simulate(self, scene, params=None):
         """Integrate a :class:`Scene`; returns a :class:`Result`."""
         from .simulate import simulate

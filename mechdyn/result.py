@@ -77,23 +77,27 @@ class Trajectory:
             return np.zeros(0), np.zeros((2 * self.compiled.dof, 0)), np.zeros(0, int)
         return np.array(times), np.array(states).T, np.array(owner)
 
-    def at(self, times):
-        """States at ``times`` from the solvers' dense output (shape ``(2n, len)``)."""
+    def at(self, times, with_segments=False):
+        """States at ``times`` from the solvers' dense output (shape ``(2n, len)``), and
+        with ``with_segments`` the index of the segment (friction mode) of each time."""
         times = np.atleast_1d(np.asarray(times, dtype=float))
         out = np.empty((2 * self.compiled.dof, len(times)))
-        ends = [(seg.t[-1], seg) for seg in self.segments]
+        owners = np.empty(len(times), dtype=int)
+        ends = [seg.t[-1] for seg in self.segments]
         first, last = self.segments[0].t[0], self.segments[-1].t[-1]
         for j, value in enumerate(times):
             if not first - 1e-12 * max(1, abs(first)) <= value <= last + 1e-12 * max(1, abs(last)):
                 raise MechdynError(f"t = {value} lies outside the simulated interval "
                                    f"[{first}, {last}]")
-            segment = next((seg for end, seg in ends if value <= end), self.segments[-1])
+            owner = next((i for i, end in enumerate(ends) if value <= end), len(ends) - 1)
+            segment = self.segments[owner]
+            owners[j] = owner
             if not segment.dense:
                 out[:, j] = segment.y[0]
                 continue
             k = min(int(np.searchsorted(segment.t, value, side="left")), len(segment.dense))
             out[:, j] = segment.dense[max(k - 1, 0)](value)
-        return out
+        return (out, owners) if with_segments else out
 
 
 class Result:
@@ -102,7 +106,8 @@ class Result:
     ``t`` (step times), ``y`` (states, one row per state), ``res[q]``, ``res[md.speed(q)]``,
     ``res[md.acceleration(q)]``, ``res["output"]``; ``final(key)``, ``at(time, key)``;
     ``events``, ``reason`` (why it ended), ``t_end``, ``stats`` (method, steps, nfev,
-    njev, nlu, segments, wall_time); ``outputs`` (label -> array); ``energy()``;
+    njev, nlu, segments, wall_time); ``outputs`` (label -> array at the step points),
+    ``outputs_at(times)``; ``energy()``;
     ``to_csv``, ``to_pandas``, ``plot``, ``summary``.
     """
 
@@ -180,9 +185,10 @@ class Result:
         return states[which][0] if scalar else states[which]
 
     # ---------------------------------------------------------- derived arrays
-    def _each_point(self, evaluate):
-        return np.array([evaluate(self.t[j], self.y[:, j], self._owner[j])
-                         for j in range(len(self.t))]).T
+    def _each_point(self, evaluate, t=None, y=None, owner=None):
+        if t is None:
+            t, y, owner = self.t, self.y, self._owner
+        return np.array([evaluate(t[j], y[:, j], owner[j]) for j in range(len(t))]).T
 
     @cached_property
     def accelerations(self) -> np.ndarray:
@@ -207,9 +213,18 @@ class Result:
     def outputs(self) -> dict:
         """Requested outputs at the step points, by label. A friction element's output is
         the friction force acting (the holding force while stuck)."""
+        return self._outputs(self.t, self.y, self._owner)
+
+    def outputs_at(self, times) -> dict:
+        """Requested outputs at any ``times`` inside the run, from the dense output."""
+        times = np.atleast_1d(np.asarray(times, dtype=float))
+        states, owners = self.trajectory.at(times, with_segments=True)
+        return self._outputs(times, states, owners)
+
+    def _outputs(self, times, states, owners) -> dict:
         labels = self.compiled.output_labels
-        if not labels or not len(self.t):
-            return {label: np.zeros(len(self.t)) for label in labels}
+        if not labels or not len(times):
+            return {label: np.zeros(len(times)) for label in labels}
         frictions = self.compiled.frictions
 
         def evaluate(t, y, owner):
@@ -222,7 +237,7 @@ class Result:
                     if label in frictions and frictions.index(label) in segment.stuck:
                         values[i] = holding[segment.stuck.index(frictions.index(label))]
             return values
-        table = self._each_point(evaluate)
+        table = self._each_point(evaluate, times, states, owners)
         return {label: table[i] for i, label in enumerate(labels)}
 
     def energy(self):

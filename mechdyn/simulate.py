@@ -51,8 +51,8 @@ def simulate(mechanism, scene: Scene, params: dict) -> Result:
     if not isinstance(scene, Scene):
         raise SceneError(f"simulate() needs a md.Scene, got {scene!r}")
     compiled = compile_scene(mechanism, scene)
-    _check_links(mechanism, params)
     p = compiled.parameter_vector(params)
+    _check_links(mechanism, params)
     y0 = _initial_state(compiled, mechanism, scene, params)
     atol = _atol_vector(compiled, scene)
     method = scene.method
@@ -161,9 +161,12 @@ def choose_method(compiled, p, y0, t0, t_limit, rtol) -> str:
     smallest non-zero eigenvalue magnitude, or the run length when the motion has a
     rigid-body (zero) mode.
     """
-    jacobian = compiled.jac(t0, y0, p)
+    try:
+        jacobian = compiled.jac(t0, y0, p)
+    except (ArithmeticError, ValueError):
+        jacobian = np.full((len(y0), len(y0)), np.nan)
     if not np.all(np.isfinite(jacobian)):
-        return "Radau"
+        return "DOP853" if rtol < 1e-6 else "RK45"    # the integration will name the fault
     eigenvalues = np.abs(np.linalg.eigvals(jacobian))
     fastest = eigenvalues.max(initial=0.0)
     scale = max(fastest, 1.0) * 1e-9
@@ -213,34 +216,52 @@ class _Run:
         return mass, forcing, grads, bias, magnitude, rate
 
     def _constrained(self, t, y, p, stuck):
-        """Accelerations and holding forces with the ``stuck`` frictions as constraints."""
+        """Accelerations and holding forces with the ``stuck`` frictions as constraints.
+
+        Frictions along parallel directions (two brakes on one shaft) form one
+        constraint; its holding force is shared in proportion to their magnitudes."""
         mass, forcing, grads, bias, magnitude, rate = self._terms(t, y, p)
-        n, m = self.n, len(stuck)
-        g = grads[stuck]
+        n = self.n
+        groups = _parallel_groups(grads, stuck)
+        g = np.array([grads[members[0][0]] for members in groups]).reshape(len(groups), n)
+        m = len(groups)
         system = np.zeros((n + m, n + m))
         system[:n, :n] = mass
         system[:n, n:] = -g.T
         system[n:, :n] = g
-        rhs = np.concatenate([forcing, -bias[stuck]])
+        rhs = np.concatenate([forcing, -np.array([bias[members[0][0]] for members in groups])])
         try:
             solution = np.linalg.solve(system, rhs)
         except np.linalg.LinAlgError:
             raise SingularMassError(", ".join(self.c.coordinates), t, y) from None
-        return solution[:n], solution[n:], magnitude
+        holding = np.zeros(len(stuck))
+        for lam, members in zip(solution[n:], groups):
+            capacity = sum(abs(alpha) * magnitude[k] for k, alpha in members)
+            for k, alpha in members:
+                share = magnitude[k] / capacity if capacity > 0 else 1.0 / len(members)
+                holding[stuck.index(k)] = lam * share * math.copysign(1.0, alpha)
+        return solution[:n], holding, magnitude
 
-    def _decide(self, t, y):
-        """Friction modes at a state: slide the way they move, else stick if they can."""
+    def _decide(self, t, y, forced=None):
+        """Friction modes at a state: slide the way they move, else stick if they can.
+
+        ``forced`` maps frictions whose release event fired to their sliding sign."""
         if not self.k:
             return _Mode([])
+        forced = forced or {}
         _, _, _, _, _, rate = self._terms(t, y, self.base + [0.0] * self.k)
         speed_scale = 1.0 + float(np.max(np.abs(y[self.n:]), initial=0.0))
         signs = [math.copysign(1.0, r) if abs(r) > 1e-12 * speed_scale else 0.0 for r in rate]
+        for k, sign in forced.items():
+            signs[k] = sign
+            self.events.append(Event(t, "slip", self.c.frictions[k],
+                                     f"released, slides {'forward' if sign > 0 else 'backward'}"))
         while 0.0 in signs:
             stuck = [k for k, s in enumerate(signs) if s == 0]
             _, holding, magnitude = self._constrained(t, y, self.base + signs, stuck)
             excess = [abs(h) - magnitude[k] for h, k in zip(holding, stuck)]
             worst = int(np.argmax(excess))
-            if excess[worst] <= 1e-12 * (magnitude[stuck[worst]] + abs(holding[worst])):
+            if excess[worst] <= 0:
                 break
             kk = stuck[worst]
             signs[kk] = -math.copysign(1.0, holding[worst])
@@ -255,9 +276,10 @@ class _Run:
         if not mode.stuck:
             return y
         mass, _, grads, _, _, rate = self._terms(t, y, self.base + mode.signs)
-        g = grads[mode.stuck]
+        first = [members[0][0] for members in _parallel_groups(grads, mode.stuck)]
+        g = grads[first]
         w = np.linalg.solve(mass, g.T)
-        y[self.n:] -= w @ np.linalg.solve(g @ w, rate[mode.stuck])
+        y[self.n:] -= w @ np.linalg.solve(g @ w, rate[first])
         for k in mode.stuck:
             if self.c.frozen[k] >= 0:
                 y[self.n + self.c.frozen[k]] = 0.0
@@ -296,10 +318,15 @@ class _Run:
                                 "stick", k))
             else:
                 position = mode.stuck.index(k)
+                _, lam, magnitude = self._constrained(t0, y0, p, mode.stuck)
+                # Held exactly at the limit: start the margin just above zero so the
+                # next increase of the load releases it.
+                offset = max(0.0, abs(lam[position]) - magnitude[k]) \
+                    + 1e-12 * (magnitude[k] + abs(lam[position]))
 
-                def holding(t, y, k=k, position=position):
+                def holding(t, y, k=k, position=position, offset=offset):
                     _, lam, magnitude = self._constrained(t, y, p, mode.stuck)
-                    return magnitude[k] - abs(lam[position])
+                    return magnitude[k] - abs(lam[position]) + offset
                 watched.append((holding, -1, "release", k))
         return watched
 
@@ -324,11 +351,15 @@ class _Run:
                 stops = [i for kind, i in fired if kind == "stop"]
                 frictions = [(kind, i) for kind, i in fired if kind != "stop"]
                 if frictions:
-                    signs = list(mode.signs)
+                    signs, released = list(mode.signs), {}
                     for kind, i in frictions:
+                        if kind == "release":
+                            _, lam, _ = self._constrained(t, y, self.base + mode.signs,
+                                                          mode.stuck)
+                            released[i] = -math.copysign(1.0, lam[mode.stuck.index(i)])
                         signs[i] = 0.0
                     y = self._project(t, y, _Mode(signs))
-                    mode = self._decide(t, y)
+                    mode = self._decide(t, y, released)
                     for kind, i in frictions:
                         if kind == "stick" and i in mode.stuck:
                             self.events.append(Event(t, "stick", self.c.frictions[i],
@@ -428,3 +459,20 @@ class _Run:
     def _result(self, reason) -> Result:
         return Result(self.c, self.trajectory, self.events, reason, dict(self.stats),
                       self.base, self.scene, self.mechanism_name, self.units, self)
+
+
+def _parallel_groups(grads, stuck):
+    """Stuck frictions grouped by parallel gradients: lists of ``(index, alpha)`` with
+    ``grads[index] = alpha * grads[first of group]``."""
+    groups = []
+    for k in stuck:
+        g = grads[k]
+        for members in groups:
+            reference = grads[members[0][0]]
+            alpha = float(g @ reference) / float(reference @ reference)
+            if np.linalg.norm(g - alpha * reference) <= 1e-12 * np.linalg.norm(g):
+                members.append((k, alpha))
+                break
+        else:
+            groups.append([(k, 1.0)])
+    return groups
