@@ -3,10 +3,16 @@
 Declare a mechanism (links and loads as sympy expressions of generalized coordinates),
 derive Lagrange's equations and the reduced quantities, print them as LaTeX, compile and
 simulate scenes.
+
+The declaring API loads with the package; the later stages (closed forms, modal and
+periodic analysis, accuracy reports, sweeps) load on first use, so ``import mechdyn``
+costs little more than ``import sympy``.
 """
-from .analytic import (AnalyticError, Classification, DrivingMoment, Motion, Solution,
-                       StopPoint, classify, closed_form, driving_moment,
-                       uniform_acceleration, uniform_rotation)
+__version__ = "0.1.0"
+
+from importlib import import_module
+
+from . import motors
 from .elements import Damper, Friction, Gravity, Link, Load, Spring
 from .errors import (DeclarationError, DerivationError, MechdynError, ParameterError,
                      SceneError, SimulationError)
@@ -15,15 +21,41 @@ from .model_file import Model, load_model
 from .scene import Scene, reaches, stopped
 from .symbols import acceleration, coordinate, coordinates, plain, speed, t
 
-__version__ = "0.1.0"
+# Public names loaded on first use: name -> module.
+_LAZY = {
+    "classify": "analytic", "closed_form": "analytic", "driving_moment": "analytic",
+    "uniform_rotation": "analytic", "uniform_acceleration": "analytic",
+    "Classification": "analytic", "Solution": "analytic", "StopPoint": "analytic",
+    "Motion": "analytic", "DrivingMoment": "analytic", "AnalyticError": "analytic",
+    "natural_frequencies": "modal", "Modes": "modal",
+    "Result": "result", "Event": "result",
+    **dict.fromkeys(["periodic_steady_state", "floquet", "forcing_period", "Floquet",
+                     "PeriodicSolution", "PeriodicError", "NoPeriodicSolutionError"],
+                    "periodic"),
+    **dict.fromkeys(["steady_running", "flywheel", "SteadyRunning", "Flywheel"], "flywheel"),
+}
+_LAZY_MODULES = {"reduction"}
 
 __all__ = [
-    "Mechanism", "Link", "Load", "Spring", "Damper", "Gravity", "Friction",
+    "motors", "Mechanism", "Link", "Load", "Spring", "Damper", "Gravity", "Friction",
     "Scene", "stopped", "reaches", "Model", "load_model",
     "t", "coordinate", "coordinates", "speed", "acceleration", "plain",
     "MechdynError", "DeclarationError", "DerivationError", "SceneError",
     "ParameterError", "SimulationError",
-    "classify", "closed_form", "driving_moment", "uniform_rotation",
-    "uniform_acceleration", "Classification", "Solution", "StopPoint", "Motion",
-    "DrivingMoment", "AnalyticError",
+    *_LAZY, *_LAZY_MODULES,
 ]
+
+
+def __getattr__(name):
+    if name in _LAZY:
+        value = getattr(import_module(f".{_LAZY[name]}", __name__), name)
+    elif name in _LAZY_MODULES:
+        value = import_module(f".{name}", __name__)
+    else:
+        raise AttributeError(f"module 'mechdyn' has no attribute {name!r}")
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))
