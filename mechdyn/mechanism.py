@@ -180,6 +180,10 @@ class Mechanism:
     def _repr_latex_(self):
         return self.equations()._repr_latex_()
 
+    def __getstate__(self):
+        """Pickled (e.g. for sweep workers) without the cache of derived equations."""
+        return {**self.__dict__, "_derived": {}}
+
 
 def _names(coordinates):
     return "[" + ", ".join(q.func.__name__ for q in coordinates) + "]"
