@@ -29,6 +29,7 @@ _LAZY = {
     "Motion": "analytic", "DrivingMoment": "analytic", "AnalyticError": "analytic",
     "natural_frequencies": "modal", "Modes": "modal",
     "Result": "result", "Event": "result",
+    "sweep": "sweeps", "Sweep": "sweeps",
     **dict.fromkeys(["periodic_steady_state", "floquet", "forcing_period", "Floquet",
                      "PeriodicSolution", "PeriodicError", "NoPeriodicSolutionError"],
                     "periodic"),
