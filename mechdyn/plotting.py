@@ -1,7 +1,8 @@
 """Figures of results: what the engineer of a scene looks at.
 
-Panels: coordinates, speeds, and the requested outputs (moments in couplings, powers)
-against time; stop, stick and slip events marked. Needs matplotlib (extra ``plot``).
+A result's figure: speeds, positions and the requested outputs (moments in couplings,
+powers) against time, with stop, stick and slip events marked. A sweep's figure: an
+output against the swept parameter. Needs matplotlib (extra ``plot``).
 """
 from __future__ import annotations
 
@@ -9,7 +10,7 @@ import numpy as np
 
 from .errors import MechdynError
 
-__all__ = ["plot_result", "pyplot"]
+__all__ = ["plot_result", "plot_sweep", "pyplot"]
 
 
 def pyplot():
@@ -24,41 +25,117 @@ def pyplot():
 
 
 def plot_result(result, path=None, points=400):
-    """Plot a :class:`~mechdyn.result.Result`; save to ``path`` if given."""
+    """Plot a :class:`~mechdyn.result.Result`; save to ``path`` if given.
+
+    Panels, top down: speeds, positions (a panel per unit and scale, so a small
+    coordinate is not flattened by a large one), moments and forces of the requested
+    outputs, their powers. Events are marked; events at (nearly) the same time share one
+    line and one label.
+    """
     plt = pyplot()
     n = result.compiled.dof
+    t, states = result.t, result.y
+    outputs = result.outputs
     if len(result.t) > 1:
-        dense_t = np.linspace(result.t[0], result.t[-1], points)
-        t = np.union1d(dense_t, result.t)
+        t = np.union1d(np.linspace(result.t[0], result.t[-1], points), result.t)
         states = result.trajectory.at(t)
-    else:
-        t, states = result.t, result.y
-    panels = 2 + (1 if result.outputs else 0)
-    fig, axes = plt.subplots(panels, 1, sharex=True, figsize=(8, 2.6 * panels + 0.6))
-    for i, name in enumerate(result.coordinates):
-        unit = result.units.get(name, "rad")
-        axes[0].plot(t, states[i], label=f"{name} [{unit}]")
-        axes[1].plot(t, states[n + i], label=f"d{name}/dt [{unit}/s]")
-    axes[0].set_ylabel("position")
-    axes[1].set_ylabel("speed")
-    if result.outputs:
-        for label, values in result.outputs.items():
-            axes[2].plot(result.t, values, label=label)
-        axes[2].set_ylabel("outputs")
-    for ax in axes:
-        for event in result.events:
-            if event.kind in ("stick", "slip", "end"):
-                ax.axvline(event.time, color="grey", lw=0.8, ls="--")
+        outputs = result.outputs_at(t) if outputs else outputs
+    units = [result.units.get(name, "rad") for name in result.coordinates]
+    panels = [("speed", [(f"d{c}/dt", states[n + i], f"{u}/s")
+                         for i, (c, u) in enumerate(zip(result.coordinates, units))]),
+              ("position", [(c, states[i], u)
+                            for i, (c, u) in enumerate(zip(result.coordinates, units))])]
+    panels = [(name, group) for name, curves in panels for group in _groups(curves)]
+    loads = [(label, values, "") for label, values in outputs.items()
+             if not label.startswith("power:")]
+    powers = [(label, values, "W") for label, values in outputs.items()
+              if label.startswith("power:")]
+    panels += [("moment, force", loads)] * bool(loads) + [("power", powers)] * bool(powers)
+    fig, axes = plt.subplots(len(panels), 1, sharex=True, squeeze=False,
+                             figsize=(8, 2.4 * len(panels) + 0.8))
+    axes = axes[:, 0]
+    for ax, (name, curves) in zip(axes, panels):
+        for label, values, unit in curves:
+            ax.plot(t, values, label=f"{label} [{unit}]" if unit else label)
+        ax.set_ylabel(name)
         ax.grid(True, alpha=0.3)
         ax.legend(loc="best", fontsize=8)
-    for event in result.events:
-        if event.kind in ("stick", "slip", "end"):
-            axes[0].annotate(f"{event.kind} {event.name}\nt = {event.time:.4g} s",
-                             (event.time, axes[0].get_ylim()[1]), fontsize=7,
-                             va="top", ha="right")
+    _mark_events(axes, result.events, result.t[0], result.t[-1])
     axes[-1].set_xlabel("time t [s]")
     fig.suptitle(f"{result.mechanism_name} — {result.scene.name} ({result.reason})")
     fig.tight_layout()
+    return _finish(plt, fig, path)
+
+
+def _groups(curves, ratio=20.0):
+    """Curves split by unit, and within a unit by scale (largest magnitudes more than
+    ``ratio`` apart go to separate panels)."""
+    groups = []
+    for unit in dict.fromkeys(u for _, _, u in curves):
+        same = sorted((c for c in curves if c[2] == unit),
+                      key=lambda c: -float(np.nanmax(np.abs(c[1]), initial=0.0)))
+        for curve in same:
+            size = float(np.nanmax(np.abs(curve[1]), initial=0.0))
+            if groups and groups[-1][0][2] == unit and size * ratio >= groups[-1][0][3]:
+                groups[-1].append(curve + (size,))
+            else:
+                groups.append([curve + (size,)])
+    return [[c[:3] for c in group] for group in groups]
+
+
+def _mark_events(axes, events, t_start, t_end):
+    """A dashed line per event time; events within 1.5 % of the run share one label."""
+    close = 0.015 * max(t_end - t_start, 1e-300)
+    clusters = []
+    for event in sorted(events, key=lambda e: e.time):
+        if clusters and event.time - clusters[-1][0].time <= close:
+            clusters[-1].append(event)
+        else:
+            clusters.append([event])
+    for k, cluster in enumerate(clusters):
+        for time in dict.fromkeys(e.time for e in cluster):
+            for ax in axes:
+                ax.axvline(time, color="grey", lw=0.8, ls="--")
+        text = "\n".join(f"{e.kind} {e.name}" for e in cluster)
+        text += f"\nt = {cluster[0].time:.4g} s"
+        right = cluster[0].time > t_start + 0.5 * (t_end - t_start)
+        axes[0].annotate(text, (cluster[0].time, 1 - 0.12 * (k % 3)),
+                         xycoords=("data", "axes fraction"), fontsize=7, va="top",
+                         ha="right" if right else "left", xytext=(-3 if right else 3, -3),
+                         textcoords="offset points",
+                         bbox={"boxstyle": "round", "fc": "white", "ec": "grey", "alpha": 0.85})
+
+
+def plot_sweep(sweep, y, path=None):
+    """Column ``y`` of a :class:`~mechdyn.sweeps.Sweep` against its first swept
+    parameter, a line per combination of the other swept parameters; failed points
+    marked on the axis."""
+    plt = pyplot()
+    x_name, others = sweep.parameters[0], sweep.parameters[1:]
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    series = {}
+    for row in sweep.rows:
+        series.setdefault(tuple(row[o] for o in others), []).append(row)
+    for key, rows in series.items():
+        rows = sorted(rows, key=lambda r: r[x_name])
+        label = ", ".join(f"{o} = {v:.4g}" for o, v in zip(others, key)) or None
+        ax.plot([r[x_name] for r in rows], [r[y] for r in rows], marker="o", ms=3,
+                label=label)
+    failed = [row[x_name] for row in sweep.failed]
+    if failed:
+        ax.plot(failed, [0] * len(failed), "rx", transform=ax.get_xaxis_transform(),
+                clip_on=False, label=f"failed ({len(failed)})")
+    ax.set_xlabel(x_name)
+    ax.set_ylabel("stop time t_end [s]" if y == "t_end" else y)
+    ax.set_title(f"{y} against {x_name} ({len(sweep)} points)")
+    ax.grid(True, alpha=0.3)
+    if ax.get_legend_handles_labels()[1]:
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    return _finish(plt, fig, path)
+
+
+def _finish(plt, fig, path):
     if path is not None:
         fig.savefig(path, dpi=110)
         plt.close(fig)
