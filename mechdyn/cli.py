@@ -5,6 +5,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import traceback
 
@@ -163,6 +164,189 @@ def _add_precision_command(commands):
     precision.set_defaults(run=_precision)
 
 
+def _models(args):
+    from pathlib import Path
+
+    from .model_file import load_model
+    folder = Path(args.folder)
+    if not folder.is_dir():
+        raise MechdynError(f"no folder {folder} in {Path.cwd()}; give the folder of "
+                           "model files: mechdyn models DIR (the bundled models are in "
+                           "the models/ folder of mechdyn's repository)")
+    files = sorted(p for p in folder.glob("*.py") if not p.name.startswith("_"))
+    if not files:
+        raise MechdynError(f"{folder} holds no model files (*.py)")
+    broken = 0
+    for path in files:
+        try:
+            model = load_model(path)
+        except MechdynError as error:
+            broken += 1
+            print(f"{path}\n    cannot be loaded: {' '.join(str(error).split())}")
+            continue
+        summary = " ".join(model.doc.split("\n\n")[0].split()) or model.mechanism.name
+        print(f"{path}  {summary}\n    scenes: {', '.join(model.scenes) or 'none'}")
+    return EXIT_USAGE if broken else EXIT_OK
+
+
+def _add_models_command(commands):
+    models = commands.add_parser(
+        "models", help="list model files with their scenes and descriptions",
+        description="List the model files of a folder: the first line of each file's "
+        "docstring (its first paragraph) and its scenes.",
+        epilog="examples:\n  mechdyn models            (the models/ folder here)\n"
+        "  mechdyn models ~/my_machines", formatter_class=argparse.RawDescriptionHelpFormatter)
+    models.add_argument("folder", nargs="?", default="models", metavar="DIR",
+                        help="folder of model files (default: models)")
+    models.set_defaults(run=_models)
+
+
+def _report(args):
+    from pathlib import Path
+
+    from .model_file import load_model
+    from .report import report
+    model = load_model(args.model)
+    scene = model.scene(args.scene)
+    page = report(model.mechanism, scene, _params(model, args.param), precision=args.precision)
+    out = args.output or f"{Path(args.model).stem}_{args.scene}.html"
+    page.write(out)
+    print(f"wrote {out}")
+    if page.failure:
+        print(f"mechdyn: simulation failed: {page.failure}", file=sys.stderr)
+        return EXIT_FAILED
+    return EXIT_OK
+
+
+def _add_report_command(commands):
+    report = commands.add_parser(
+        "report", help="write one HTML page: derivation, scene, results, plots",
+        description="Write a self-contained HTML page for a scene: the derivation in LaTeX "
+        "(typeset by MathJax when online), the mechanism and its parameters, the scene, "
+        "the results with events and the default figure; with --precision also the "
+        "work-precision table of the integrators.",
+        epilog="examples:\n"
+        "  mechdyn report models/shoe_brake.py --scene braking -o brake.html\n"
+        "  mechdyn report models/motor_startup.py --scene startup --precision\n\n"
+        "exit status 1 if the simulation fails (the page still shows the derivation and "
+        "the partial result)", formatter_class=argparse.RawDescriptionHelpFormatter)
+    _model_argument(report)
+    _scene_argument(report)
+    _param_argument(report)
+    report.add_argument("-o", "--output", metavar="FILE.html",
+                        help="the page to write (default: MODEL_SCENE.html here)")
+    report.add_argument("--precision", action="store_true",
+                        help="add the work-precision table (runs every integrator at "
+                        "several tolerances)")
+    report.set_defaults(run=_report)
+
+
+def _grid_axis(model, text):
+    """``name=start:stop:count`` (evenly spaced) or ``name=v1,v2,...`` -> (name, values)."""
+    import numpy as np
+
+    from .parse import ValueTextError, number
+    name, sep, values = text.partition("=")
+    if not sep or not name.strip().isidentifier():
+        raise ValueTextError(f"--grid {text!r}: expected name=start:stop:count or "
+                             "name=v1,v2,..., e.g. P=10:100:50")
+    name = str(model.param_symbol(name.strip()))
+    if ":" in values:
+        parts = values.split(":")
+        if len(parts) != 3:
+            raise ValueTextError(f"--grid {text!r}: expected start:stop:count")
+        start, stop, count = (number(part) for part in parts)
+        if count != int(count) or count < 1:
+            raise ValueTextError(f"--grid {text!r}: count must be a whole number >= 1")
+        return name, list(np.linspace(start, stop, int(count)))
+    return name, [number(value) for value in values.split(",")]
+
+
+def _sweep(args):
+    from contextlib import ExitStack
+
+    from .model_file import load_model
+    from .sweeps import sweep
+    model = load_model(args.model)
+    scene = model.scene(args.scene)
+    params = _params(model, args.param)
+    grid = dict(_grid_axis(model, text) for text in args.grid)
+    with ExitStack() as stack:
+        executor = None
+        if args.dask:
+            executor = stack.enter_context(_dask_client(args.dask)).get_executor()
+        elif args.workers:
+            from concurrent.futures import ProcessPoolExecutor
+            executor = stack.enter_context(ProcessPoolExecutor(args.workers))
+        table = sweep(model.mechanism, scene, params, grid, executor, out=args.out)
+    y = args.y or table.default_y
+    if y not in table.columns:
+        raise MechdynError(f"--y {y!r}: not a column ({', '.join(table.columns)})")
+    shown = table.parameters + [y] + (["t_end"] if y != "t_end" else [])
+    print("  ".join(f"{c:>14}" for c in shown) + "  reason or error")
+    for row in table.rows:
+        cells = "  ".join(f"{row[c]:>14.6g}" for c in shown)
+        print(f"{cells}  {row['error'] or row['reason']}")
+    if args.out:
+        print(f"wrote {args.out}")
+    if args.plot:
+        table.plot(y, args.plot)
+        print(f"wrote {args.plot}")
+    if table.failed:
+        print(f"mechdyn: {len(table.failed)} of {len(table)} points failed", file=sys.stderr)
+        return EXIT_FAILED
+    return EXIT_OK
+
+
+def _dask_client(address):
+    try:
+        from distributed import Client
+    except ImportError:
+        raise MechdynError("--dask needs dask.distributed: pip install 'mechdyn[dask]'") from None
+    try:
+        return Client(address, timeout=30)
+    except (OSError, TimeoutError) as error:
+        raise MechdynError(f"--dask {address}: cannot reach the scheduler ({error})") from None
+
+
+def _add_sweep_command(commands):
+    sweep = commands.add_parser(
+        "sweep", help="simulate a scene over a grid of parameter values",
+        description="Simulate a scene at every point of a parameter grid (all combinations "
+        "of the --grid axes), deriving and compiling once. Rows stream to --out as points "
+        "finish; rerun with the same --out to resume after an interruption.",
+        epilog="examples:\n"
+        "  mechdyn sweep models/shoe_brake.py --scene braking --grid P=10:100:10 "
+        "--plot stop.png\n"
+        "  mechdyn sweep models/hoist_drive.py --scene lift_start --grid E_k=2e6:8e6:4 "
+        "--grid d_r=500,1100 --y peak:rope --out hoist.csv --workers 2\n"
+        "  mechdyn sweep models/shoe_brake.py --scene braking --grid P=10:100:1000 "
+        "--dask tcp://scheduler:8786 --out brake.csv\n\n"
+        "columns: the swept parameters, t_end, reason, final:STATE per coordinate and "
+        "speed, peak:OUTPUT per output, error\n"
+        "exit status 1 if any point failed (its row holds the error; the others are kept)",
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    _model_argument(sweep)
+    _scene_argument(sweep)
+    sweep.add_argument("--grid", action="append", required=True,
+                       metavar="NAME=START:STOP:COUNT",
+                       help="a swept parameter: COUNT evenly spaced values, or NAME=V1,V2,...; "
+                       "repeatable (full factorial)")
+    _param_argument(sweep)
+    where = sweep.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=int, metavar="N",
+                       help="local worker processes (default: all cores)")
+    where.add_argument("--dask", metavar="ADDRESS",
+                       help="run on a Dask cluster, e.g. tcp://host:8786 (needs mechdyn[dask])")
+    sweep.add_argument("--out", metavar="FILE.csv", help="stream the rows to this file "
+                       "(an existing file of the same sweep is resumed)")
+    sweep.add_argument("--plot", metavar="FILE.png",
+                       help="plot --y against the first swept parameter")
+    sweep.add_argument("--y", metavar="COLUMN", help="the column to show and plot "
+                       "(default: t_end if the scene stops, else the first peak)")
+    sweep.set_defaults(run=_sweep)
+
+
 # ------------------------------------------------------------- shared options
 def _model_argument(parser):
     parser.add_argument("model", help="model file (defines mechanism, params, scenes); "
@@ -188,6 +372,13 @@ _EXIT_CODES = """exit status:
   3  internal error (a bug in mechdyn: rerun with --debug and report the traceback)"""
 
 
+class _Formatter(argparse.RawDescriptionHelpFormatter):
+    """Examples keep their lines; command names fit beside their help."""
+
+    def __init__(self, prog):
+        super().__init__(prog, max_help_position=30)
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="mechdyn", description="Dynamics of machines and mechanisms: derive, "
@@ -198,7 +389,7 @@ def build_parser() -> argparse.ArgumentParser:
         "  mechdyn equations models/shoe_brake.py\n"
         "  mechdyn simulate models/shoe_brake.py --scene braking --plot brake.png\n\n"
         "`mechdyn COMMAND --help` shows a command's options and examples.\n\n"
-        + _EXIT_CODES, formatter_class=argparse.RawDescriptionHelpFormatter)
+        + _EXIT_CODES, formatter_class=_Formatter)
     parser.add_argument("--version", action="version", version=f"mechdyn {__version__}")
     parser.add_argument("--debug", action="store_true",
                         help="show the traceback of an error (also after the command)")
@@ -206,6 +397,9 @@ def build_parser() -> argparse.ArgumentParser:
     _add_equations_command(commands)
     _add_simulate_command(commands)
     _add_precision_command(commands)
+    _add_models_command(commands)
+    _add_report_command(commands)
+    _add_sweep_command(commands)
     for command in commands.choices.values():
         command.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
                              help="show the traceback of an error")
@@ -217,6 +411,9 @@ def main(argv=None) -> int:
     args = build_parser().parse_args(argv)          # usage errors exit with 2 here
     try:
         return args.run(args)
+    except BrokenPipeError:              # output piped into e.g. `head`: not an error
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return EXIT_OK
     except KeyboardInterrupt:
         print("mechdyn: interrupted", file=sys.stderr)
         return 130
