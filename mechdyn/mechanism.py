@@ -180,6 +180,11 @@ class Mechanism:
     def _repr_latex_(self):
         return self.equations()._repr_latex_()
 
+    def _repr_html_(self):
+        """Jupyter: the elements as a table and the derivation."""
+        from .report import mechanism_html
+        return mechanism_html(self)
+
     def __getstate__(self):
         """Pickled (e.g. for sweep workers) without the cache of derived equations."""
         return {**self.__dict__, "_derived": {}}

@@ -305,6 +305,11 @@ class Result:
         return (f"<Result {self.mechanism_name!r} / {self.scene.name!r}: t_end = "
                 f"{self.t_end:.6g} s, {len(self.t)} points, {self.reason}>")
 
+    def _repr_html_(self):
+        """Jupyter: the summary as a table, the events and the default figure."""
+        from .report import result_html
+        return result_html(self)
+
     def plot(self, path=None, points=400):
         """Coordinates, speeds and outputs against time, events marked. Saves to ``path``
         (PNG, SVG, PDF by its suffix) and returns the matplotlib figure."""
