@@ -14,10 +14,13 @@ __all__ = ["plot_result", "plot_sweep", "pyplot"]
 
 
 def pyplot():
-    """matplotlib.pyplot on a file back end, or a clear error naming the extra."""
+    """matplotlib.pyplot on a file back end (Jupyter's inline back end is kept), or a
+    clear error naming the extra."""
     try:
         import matplotlib
-        matplotlib.use("Agg") if matplotlib.get_backend().lower() != "agg" else None
+        backend = matplotlib.get_backend().lower()
+        if backend != "agg" and "inline" not in backend:
+            matplotlib.use("Agg")
         import matplotlib.pyplot as plt
     except ImportError:
         raise MechdynError("plots need matplotlib: pip install 'mechdyn[plot]'") from None

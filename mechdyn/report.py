@@ -109,7 +109,8 @@ def report(mechanism, scene, params, precision=False) -> Report:
 # ------------------------------------------------------------------ Jupyter views
 def result_html(result) -> str:
     """A result as HTML: how it ended, final and peak values, events, the figure."""
-    return _results(result, "")
+    return (f"<h3>{_e(result.mechanism_name)} — scene {_e(result.scene.name)}</h3>"
+            + _results(result, ""))
 
 
 def mechanism_html(mechanism) -> str:
