@@ -176,11 +176,17 @@ def derive(mechanism, element_names=None, rigid=()) -> Equations:
     def to_plain(expr):
         return plain(expr).xreplace(speed_subs).xreplace(position_subs)
 
-    def rate(expr):
-        return sum((sp.diff(expr, qi) * ui for qi, ui in zip(q, u)), sp.S.Zero) + sp.diff(expr, t)
+    def rate(expr, grad=None):         # d expr/dt; pass grad if it is already known
+        if grad is None:
+            present = expr.free_symbols
+            grad = [_diff(expr, qi) if qi in present else sp.S.Zero for qi in q]
+        return sp.Add(*[g * ui for g, ui in zip(grad, u) if g != 0], _diff(expr, t))
 
     def gradient(expr):
-        return sp.Matrix([sp.diff(expr, qi) for qi in q])
+        return sp.Matrix([_diff(expr, qi) for qi in q])
+
+    def scaled(factor, column):        # factor * column, skipping the zero entries
+        return column.applyfunc(lambda entry: factor * entry if entry != 0 else entry)
 
     links = {n: e for n, e in elements.items() if isinstance(e, Link)}
     kinetic, potential, dissipation = sp.S.Zero, sp.S.Zero, sp.S.Zero
@@ -202,17 +208,19 @@ def derive(mechanism, element_names=None, rigid=()) -> Equations:
             value = to_plain(element.value)
             if element.efficiency is not None:
                 value = value * _efficiency_factor(value * rate(along), element.efficiency)
-            column = value * gradient(along)
+            column = scaled(value, gradient(along))
         elif isinstance(element, Spring):
             stretch = to_plain(element.stretch)
             k = to_plain(element.k)
             potential += k * stretch ** 2 / 2
-            column = -k * stretch * gradient(stretch)
+            column = scaled(-k * stretch, gradient(stretch))
         elif isinstance(element, Damper):
             stretch = to_plain(element.stretch)
             c = to_plain(element.c)
-            dissipation += c * rate(stretch) ** 2 / 2
-            column = -c * rate(stretch) * gradient(stretch)
+            grad = gradient(stretch)
+            stretch_rate = rate(stretch, grad)
+            dissipation += c * stretch_rate ** 2 / 2
+            column = scaled(-c * stretch_rate, grad)
         elif isinstance(element, Gravity):
             column = zero
             for (m, _, _, y, _) in link_plain.values():
@@ -223,14 +231,14 @@ def derive(mechanism, element_names=None, rigid=()) -> Equations:
             magnitude = to_plain(element.moment)
             slide = rate(along)
             grad = gradient(along)
-            bias = sum((sp.diff(slide, qi) * ui for qi, ui in zip(q, u)), sp.S.Zero) \
-                + sp.diff(slide, t)
+            bias = sum((_diff(slide, qi) * ui for qi, ui in zip(q, u)), sp.S.Zero) \
+                + _diff(slide, t)
             frictions.append(FrictionTerm(name, magnitude, grad, slide, bias))
             column = -magnitude * sp.sign(slide) * grad
         else:  # pragma: no cover - every element type is handled above
             raise TypeError(type(element))
         forces[name] = column
-        powers[name] = sum((column[i] * u[i] for i in range(len(q))), sp.S.Zero)
+        powers[name] = sp.Add(*[column[i] * u[i] for i in range(len(q)) if column[i] != 0])
 
     mass, inertial = _lagrange(kinetic, q, u)
     for i, qi in enumerate(q):
@@ -255,15 +263,29 @@ def derive(mechanism, element_names=None, rigid=()) -> Equations:
 def _lagrange(kinetic, q, u):
     """Mass matrix and velocity-dependent inertia forcing from the kinetic energy."""
     n = len(q)
-    momenta = [sp.diff(kinetic, ui) for ui in u]
-    mass = sp.Matrix(n, n, lambda i, j: sp.diff(momenta[i], u[j]))
+    momenta = [_diff(kinetic, ui) for ui in u]
+    mass = sp.Matrix(n, n, lambda i, j: _diff(momenta[i], u[j]))
     inertial = sp.zeros(n, 1)
     for i in range(n):
-        term = sp.diff(kinetic, q[i]) - sp.diff(momenta[i], t)
+        term = _diff(kinetic, q[i]) - _diff(momenta[i], t)
         for k in range(n):
-            term -= sp.diff(momenta[i], q[k]) * u[k]
+            derivative = _diff(momenta[i], q[k])
+            if derivative != 0:
+                term -= derivative * u[k]
         inertial[i] = term
     return mass, inertial
+
+
+def _diff(expr, x):
+    """``d expr / d x`` for a plain symbol ``x``: zero at once when ``expr`` does not
+    contain it, and term by term over the terms of a sum that contain it (sympy's diff
+    costs about as much for a zero as for a term, and a chain of N bodies asks for N^2
+    of them)."""
+    if x not in expr.free_symbols:
+        return sp.S.Zero
+    if expr.is_Add:      # a sum of many terms (an energy): only the terms that hold x
+        return sp.Add(*[sp.diff(term, x) for term in expr.args if x in term.free_symbols])
+    return sp.diff(expr, x)
 
 
 def _efficiency_factor(power, eta):
