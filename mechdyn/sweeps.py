@@ -214,18 +214,20 @@ def _run(job, todo, table, executor, bar):
     own = executor is None
     if own:
         executor = ProcessPoolExecutor(max_workers=min(len(todo), os.cpu_count() or 1))
-    pending = set()
+    order, pending = {}, set()          # futures by submission, to write in grid order
     try:
         for point in todo:
-            pending.add(executor.submit(_run_point, digest, blob, point))
+            future = executor.submit(_run_point, digest, blob, point)
+            order[future] = len(order)
+            pending.add(future)
         while pending:
             done, pending = wait(pending, return_when=FIRST_COMPLETED)
-            _record(done, table, bar)
+            _record(sorted(done, key=order.get), table, bar)
     finally:
         for future in pending:
             future.cancel()
-        _record([f for f in pending if f.done() and not f.cancelled()
-                 and f.exception() is None], table, bar)
+        _record(sorted((f for f in pending if f.done() and not f.cancelled()
+                        and f.exception() is None), key=order.get), table, bar)
         if bar is not None:
             bar.close()
         if own:

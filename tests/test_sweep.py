@@ -1,0 +1,139 @@
+"""Parameter sweeps: closed-form stop times, Dask gives the same rows, resume, failures.
+
+Reference: the shoe brake's disc (inertia I) is decelerated by the constant friction
+moment f * 2P * R (the lever doubles the shoe force P), so I d(omega)/dt = -2 f P R and
+omega(t) = omega_0 - 2 f P R t / I: the disc stops at t = I omega_0 / (2 f P R), having
+turned omega_0 t / 2 = I omega_0^2 / (4 f P R).
+"""
+import csv
+from concurrent.futures import Executor, Future
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import mechdyn as md
+from mechdyn.errors import ParameterError
+from mechdyn.sweeps import SweepFileError
+
+ROOT = Path(__file__).resolve().parents[1]
+FORCES = list(np.linspace(5.0, 200.0, 50))
+
+
+@pytest.fixture(scope="module")
+def brake():
+    return md.load_model(ROOT / "models" / "shoe_brake.py")
+
+
+def _by_name(model):
+    return {str(k): float(v) for k, v in model.params.items()}
+
+
+@pytest.fixture(scope="module")
+def local_sweep(brake, tmp_path_factory):
+    out = tmp_path_factory.mktemp("sweep") / "brake.csv"
+    table = md.sweep(brake.mechanism, brake.scenes["braking"], brake.params,
+                     {"P": FORCES}, out=out, progress=False)     # local processes
+    return table, out
+
+
+class _Inline(Executor):
+    """Runs each point at submission, counting them; raises KeyboardInterrupt (as a
+    Ctrl-C would) at the submission after ``interrupt_after``."""
+
+    def __init__(self, interrupt_after=None):
+        self.calls, self.interrupt_after = 0, interrupt_after
+
+    def submit(self, fn, *args, **kwargs):
+        if self.interrupt_after is not None and self.calls == self.interrupt_after:
+            raise KeyboardInterrupt
+        self.calls += 1
+        future = Future()
+        future.set_result(fn(*args, **kwargs))
+        return future
+
+
+def _rows(path):
+    with open(path, newline="") as handle:
+        return list(csv.DictReader(handle))
+
+
+def test_stop_times_of_50_brake_forces_match_the_closed_form(brake, local_sweep):
+    table, out = local_sweep
+    p = _by_name(brake)
+    omega_0 = 100.0
+    forces = np.array(FORCES)
+    t_stop = p["I"] * omega_0 / (2 * p["f"] * forces * p["R"])
+    angle = p["I"] * omega_0 ** 2 / (4 * p["f"] * forces * p["R"])
+    assert len(table) == 50 and not table.failed
+    np.testing.assert_allclose(table["P"], forces, rtol=0, atol=0)
+    np.testing.assert_allclose(table["t_end"], t_stop, rtol=1e-9)
+    np.testing.assert_allclose(table["final:phi"], angle, rtol=1e-9)
+    assert set(table["reason"]) == {"stopped(phi)"}
+    written = _rows(out)                     # the file holds the same rows
+    assert sorted(float(r["P"]) for r in written) == sorted(FORCES)
+    by_force = {float(r["P"]): float(r["t_end"]) for r in written}
+    assert [by_force[x] for x in FORCES] == list(table["t_end"])
+
+
+def test_a_dask_local_cluster_gives_identical_rows(brake, local_sweep):
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(processes=False, n_workers=1, threads_per_worker=2,
+                                  dashboard_address=":0") as cluster, \
+            distributed.Client(cluster) as client:
+        table = md.sweep(brake.mechanism, brake.scenes["braking"], brake.params,
+                         {"P": FORCES}, executor=client.get_executor(), progress=False)
+    assert table.rows == local_sweep[0].rows
+
+
+def test_an_interrupted_sweep_resumes_without_recomputing_finished_points(brake, tmp_path):
+    out = tmp_path / "brake.csv"
+    grid = {"P": [10.0, 20.0, 25.0, 40.0, 50.0, 80.0, 100.0, 125.0, 200.0, 250.0]}
+    scene = brake.scenes["braking"]
+    with pytest.raises(KeyboardInterrupt):
+        md.sweep(brake.mechanism, scene, brake.params, grid,
+                 executor=_Inline(interrupt_after=4), out=out, progress=False)
+    finished = [float(r["P"]) for r in _rows(out)]
+    assert finished == grid["P"][:4]
+    with open(out, "a") as handle:           # a crash in the middle of writing a row
+        handle.write("125.0,8.0")
+    resumed = _Inline()
+    table = md.sweep(brake.mechanism, scene, brake.params, grid, executor=resumed,
+                     out=out, progress=False)
+    assert resumed.calls == 6
+    assert sorted(float(r["P"]) for r in _rows(out)) == sorted(grid["P"])
+    np.testing.assert_allclose(table["t_end"], 1000.0 / np.array(grid["P"]), rtol=1e-9)
+    again = _Inline()
+    md.sweep(brake.mechanism, scene, brake.params, grid, executor=again, out=out,
+             progress=False)
+    assert again.calls == 0
+
+
+def test_a_failing_point_is_recorded_and_the_others_kept(brake, tmp_path):
+    out = tmp_path / "brake.csv"
+    table = md.sweep(brake.mechanism, brake.scenes["braking"], brake.params,
+                     {"I": [0.4, -0.4, 0.8]}, executor=_Inline(), out=out, progress=False)
+    errors = list(table["error"])
+    assert errors[0] == errors[2] == ""
+    assert "ParameterError" in errors[1] and "negative" in errors[1]
+    assert table.failed == [table.rows[1]]
+    np.testing.assert_allclose(table["t_end"][[0, 2]], [50.0, 100.0], rtol=1e-9)
+    assert [r["error"] != "" for r in _rows(out)] == [False, True, False]
+    rerun = _Inline()
+    md.sweep(brake.mechanism, brake.scenes["braking"], brake.params,
+             {"I": [0.4, -0.4, 0.8]}, executor=rerun, out=out, progress=False)
+    assert rerun.calls == 0
+
+
+def test_an_out_file_of_another_sweep_is_refused(brake, tmp_path):
+    out = tmp_path / "other.csv"
+    out.write_text("k,t_end\n1.0,2.0\n")
+    with pytest.raises(SweepFileError, match="another sweep"):
+        md.sweep(brake.mechanism, brake.scenes["braking"], brake.params, {"P": [10]},
+                 executor=_Inline(), out=out, progress=False)
+
+
+def test_an_unknown_grid_parameter_names_the_parameters(brake):
+    with pytest.raises(ParameterError, match="'Q' is not a parameter.*I, P, R, f"):
+        md.sweep(brake.mechanism, brake.scenes["braking"], brake.params, {"Q": [1]},
+                 executor=_Inline(), progress=False)
