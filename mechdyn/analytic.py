@@ -39,7 +39,7 @@ __all__ = ["AnalyticError", "Classification", "classify", "StopPoint", "Solution
            "closed_form", "Motion", "uniform_rotation", "uniform_acceleration",
            "DrivingMoment", "driving_moment"]
 
-_QUAD = {"epsabs": 0.0, "epsrel": 1e-13, "limit": 400}          # relations
+_QUAD = {"epsabs": 0.0, "epsrel": 1e-12, "limit": 400}          # relations
 _STATS_QUAD = {"epsabs": 1e-12, "epsrel": 1e-12, "limit": 400}   # mean and RMS
 _ROLE_WORDS = {"t": "the time", "phi": "the position", "omega": "the speed"}
 
@@ -278,10 +278,18 @@ class Solution:
         lines += [f"  {self._lhs(n, str)} = {sp.sstr(e)}" for n, e in self.relations.items()]
         if self.stop is not None:
             s = self.stop
-            lines.append(f"  stop ({s.label}): t = {s.t}, {self.q} = {s.phi}, "
-                         f"{self.u} = {s.omega}")
+            lines.append(f"  stop ({s.label}): t = {_shown(s.t)}, {self.q} = {_shown(s.phi)}, "
+                         f"{self.u} = {_shown(s.omega)}")
         lines += [f"  note: {n}" for n in self.notes]
         return "\n".join(lines)
+
+
+def _shown(value):
+    """An exact value with its decimal approximation when it is not a plain number."""
+    value = sp.sympify(value)
+    if value.is_Rational or value.is_Float or not value.is_number:
+        return str(value)
+    return f"{value} (= {float(value):.12g})"
 
 
 def _evaluator(expr, variable, name):
@@ -389,8 +397,27 @@ def _speed_path(p):
     return relations, tuple(numeric), tuple(notes)
 
 
+def _zero_factor(expr, x):
+    """What must vanish for ``expr`` to vanish: ``c sqrt(A/B)`` -> ``A``."""
+    expr = sp.numer(sp.together(expr))
+    if expr.is_Mul:
+        expr = sp.Mul(*[f for f in expr.args if f.has(x)])
+    if expr.is_Pow and expr.exp.is_positive:
+        return _zero_factor(expr.base, x)
+    return expr
+
+
+def _solvable(expr, x):
+    """Whether ``expr = 0`` is worth handing to sp.solve for ``x``: algebraic in ``x``, or
+    ``x`` occurring once (sympy can hang on the rest, e.g. logs of several speeds)."""
+    occurrences = sum(1 for node in sp.preorder_traversal(expr) if node == x)
+    return occurrences == 1 or expr.is_algebraic_expr(x)
+
+
 def _invert_speed(p, t_of_omega, phi_of_omega, upper):
     """omega(t) and phi(t) when sympy can solve t(omega) = t for omega."""
+    if not _solvable(t_of_omega, upper):
+        return {}
     try:
         roots = sp.solve(sp.Eq(t_of_omega, t), upper)
     except NotImplementedError:
@@ -449,7 +476,10 @@ def _solve_condition(p, relations, closed, target, label):
         inside = [r for r in others if target.has(p.role(r))]
         if not all(f"{r}({variable})" in closed for r in inside):
             continue
-        expr = target.subs({p.role(r): closed[f"{r}({variable})"] for r in inside})
+        expr = _zero_factor(target.subs({p.role(r): closed[f"{r}({variable})"]
+                                         for r in inside}), p.role(variable))
+        if not _solvable(expr, p.role(variable)):
+            break
         try:
             roots = sp.solve(expr, p.role(variable))
         except NotImplementedError:
@@ -465,33 +495,42 @@ def _point(p, relations, variable, root, label):
     if root.is_real is False or (root.is_number and abs(complex(root).imag) > 1e-12):
         return None
     x = p.role(variable)
+    if not _reachable(p, relations, variable, root):
+        return None
     values = {variable: root}
     for role in ("t", "phi", "omega"):
         if role != variable:
             expr = relations[f"{role}({variable})"]
             values[role] = (sp.Float(_evaluator(expr, x, role)(float(root)), 17)
-                            if expr.has(sp.Integral) else expr.subs(x, root))
+                            if expr.has(sp.Integral) else sp.expand(expr.subs(x, root)))
     elapsed = values["t"] - p.start["t"]
     if elapsed.is_number:
         late = complex(elapsed)
         if not (math.isfinite(late.real) and late.real > 0 and abs(late.imag) < 1e-12):
-            return None
-        if variable == "omega" and _crosses_equilibrium(p, root):
             return None
     elif elapsed.is_positive is False:
         return None
     return StopPoint(values["t"], values["phi"], values["omega"], label)
 
 
-def _crosses_equilibrium(p, root):
-    """True if M_red(omega) vanishes between the initial speed and ``root`` (sampled:
-    the speed cannot pass a speed where the moment vanishes)."""
-    if p.moment.free_symbols - {p.u}:
-        return False
-    moment = sp.lambdify(p.u, p.moment, "numpy")
-    speeds = np.linspace(float(p.start["omega"]), float(root), 1001)
-    signs = np.sign(np.broadcast_to(moment(speeds), speeds.shape))
-    return bool(np.any(signs != signs[0]) or signs[-1] == 0)
+def _reachable(p, relations, variable, root):
+    """Whether the motion gets from the start to ``root`` (sampled where numeric): the
+    speed cannot pass a speed where M_red(omega) vanishes, the position cannot pass a
+    turning point of omega(phi)."""
+    if variable == "t":
+        return True
+    watched = p.moment if variable == "omega" else relations["omega(phi)"]
+    x = p.role(variable)
+    if watched.free_symbols - {x} or not root.is_number:
+        return True
+    f = sp.lambdify(x, watched, "numpy")
+    inside = np.linspace(float(p.start[variable]), float(root), 1001)
+    if variable == "phi":
+        inside = inside[1:-1]          # omega may vanish at the start and at the stop
+    with np.errstate(invalid="ignore"):
+        values = np.broadcast_to(f(inside), inside.shape)
+    signs = np.sign(values)
+    return bool(np.all(np.isfinite(values)) and np.all(signs == signs[0]) and signs[0] != 0)
 
 
 def _before(time, limit):

@@ -316,3 +316,29 @@ def test_speed_dependent_moment_without_antiderivative_uses_quadrature_and_agree
     res = mech.simulate(tight(coast), {})
     assert res.t_end == pytest.approx(float(sol.stop.t), rel=1e-8)
     assert res.final(phi) == pytest.approx(float(sol.stop.phi), rel=1e-8)
+
+
+def test_coasting_yoke_stops_at_its_turning_point_and_never_reaches_beyond():
+    yoke = model("scotch_yoke")
+    q = yoke.mechanism.coordinates[0]
+
+    def coast(until):
+        return md.Scene("coast", effects=["resistance"], initial={q: 0, md.speed(q): 5},
+                        until=until)
+    sol = md.closed_form(yoke.mechanism, coast(md.stopped(q)), yoke.params)
+    # Energy: J1A w0^2 / 2 = 0.25 = F3 l (1 - cos(phi)) = 1 - cos(phi): cos(phi) = 3/4.
+    assert sol.stop.phi == sp.acos(sp.Rational(3, 4))
+    res = yoke.mechanism.simulate(tight(coast(md.stopped(q))), yoke.params)
+    assert res.t_end == pytest.approx(float(sol.stop.t), rel=1e-8)
+    beyond = md.closed_form(yoke.mechanism, coast(md.reaches(q, 1)), yoke.params)
+    assert beyond.stop is None
+    assert any("not reached" in note for note in beyond.notes)
+
+
+def test_kloss_start_up_gives_t_of_omega_without_hanging_on_its_inversion():
+    motor = model("motor_startup")
+    start = motor.scenes["startup"]
+    sol = md.closed_form(motor.mechanism, start, motor.params)
+    assert "omega(t)" not in sol.relations and not sol.quadrature
+    res = motor.mechanism.simulate(tight(start), motor.params)
+    assert res.t_end == pytest.approx(float(sol.stop.t), rel=1e-8)
