@@ -21,6 +21,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import numpy as np
 import sympy as sp
 
 from .elements import Damper, Friction, Gravity, Link, Load, Spring
@@ -247,6 +248,7 @@ def derive(mechanism, element_names=None, rigid=()) -> Equations:
                 f"mechanism {mechanism.name!r}: no inertia in coordinate {qi}: no link's "
                 "mass or moment of inertia moves with it (give a link m or J that moves "
                 "with it, or make its spring rigid in the scene)")
+    _check_regular(mass, q, mechanism.name)
     excluded = tuple(n for n, e in elements.items()
                      if not isinstance(e, Link) and n not in element_names)
     return Equations(
@@ -286,6 +288,31 @@ def _diff(expr, x):
     if expr.is_Add:      # a sum of many terms (an energy): only the terms that hold x
         return sp.Add(*[sp.diff(term, x) for term in expr.args if x in term.free_symbols])
     return sp.diff(expr, x)
+
+
+def _check_regular(mass, q, name):
+    """Refuse a mass matrix that is singular everywhere (a combination of coordinates
+    that moves no inertia), tested at two random configurations."""
+    n = mass.shape[0]
+    if n < 2:
+        return
+    rng = np.random.default_rng(12345)
+    free = sorted(mass.free_symbols, key=str)
+    smallest = []
+    for _ in range(2):
+        values = {s: sp.Float(rng.uniform(-3, 3) if s in q else rng.uniform(0.5, 1.5))
+                  for s in free}
+        numeric = np.array([[float(mass[i, j].xreplace(values)) if mass[i, j] != 0 else 0.0
+                             for j in range(n)] for i in range(n)])
+        _, singular, vt = np.linalg.svd(numeric)
+        smallest.append((singular[-1] / max(singular[0], 1e-300), vt[-1]))
+    if all(ratio < 1e-12 for ratio, _ in smallest):
+        vector = smallest[0][1] / np.max(np.abs(smallest[0][1]))
+        combination = " + ".join(f"{c:.3g}*{qi}" for c, qi in zip(vector, q) if abs(c) > 1e-9)
+        raise DerivationError(
+            f"mechanism {name!r}: the mass matrix is singular: the motion "
+            f"{combination} moves no mass or inertia (coordinates that always move "
+            "together need one coordinate, or a link that moves with the difference)")
 
 
 def _efficiency_factor(power, eta):

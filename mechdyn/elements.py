@@ -40,7 +40,9 @@ def as_expression(value, what: str) -> sp.Expr:
 
 
 def _nonnegative(expr: sp.Expr, what: str) -> sp.Expr:
-    if expr.is_number and expr.is_negative:
+    """Refuse values that are negative by their numbers or their symbols' assumptions
+    (``-m`` with ``m`` declared positive)."""
+    if expr.is_negative:
         raise DeclarationError(f"{what} must not be negative, got {expr}")
     return expr
 
@@ -119,7 +121,7 @@ class Load(Element):
         if self.efficiency is not None:
             self._expr("efficiency")
             eta = self.efficiency
-            if eta.is_number and not (0 < eta <= 1):
+            if sp.Le(eta, 0) == sp.true or sp.Gt(eta, 1) == sp.true:
                 raise DeclarationError(
                     f"load {self.name!r}: efficiency must lie in (0, 1], got {eta}")
 

@@ -66,6 +66,7 @@ class Mechanism:
         self.name = name
         self.coordinates = tuple(coordinates)
         self.elements: dict[str, Element] = {}
+        self._speeds = {sp.Derivative(q, t) for q in self.coordinates}
         self._derived = {}
 
     # ----------------------------------------------------------------- declaring
@@ -110,9 +111,8 @@ class Mechanism:
         what = f"{type(element).__name__.lower()} {element.name!r}: {attribute} = {expr}"
         allowed = _ALLOWED[(type(element), attribute)]
         coords = set(self.coordinates)
-        speeds = {sp.Derivative(q, t) for q in self.coordinates}
         for d in expr.atoms(sp.Derivative):
-            if d not in speeds:
+            if d not in self._speeds:
                 raise DeclarationError(
                     f"{what}: {d} is not the speed of a declared coordinate "
                     f"(declared: {_names(self.coordinates)})")

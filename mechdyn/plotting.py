@@ -39,7 +39,7 @@ def plot_result(result, path=None, points=400):
     n = result.compiled.dof
     t, states = result.t, result.y
     outputs = result.outputs
-    if len(result.t) > 1:
+    if len(result.t) > 1 and result.scene.dense:
         t = np.union1d(np.linspace(result.t[0], result.t[-1], points), result.t)
         states = result.trajectory.at(t)
         outputs = result.outputs_at(t) if outputs else outputs

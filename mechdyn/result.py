@@ -95,8 +95,16 @@ class Trajectory:
             if not segment.dense:
                 out[:, j] = segment.y[0]
                 continue
-            k = min(int(np.searchsorted(segment.t, value, side="left")), len(segment.dense))
-            out[:, j] = segment.dense[max(k - 1, 0)](value)
+            k = max(min(int(np.searchsorted(segment.t, value, side="left")),
+                        len(segment.dense)), 1)
+            if segment.dense[k - 1] is None:
+                if value in (segment.t[k - 1], segment.t[k]):
+                    out[:, j] = segment.y[k - 1 if value == segment.t[k - 1] else k]
+                    continue
+                raise MechdynError(f"t = {value}: this run kept no dense output "
+                                   "(Scene(dense=False)); use res.t and res.y, or rerun "
+                                   "with dense=True")
+            out[:, j] = segment.dense[k - 1](value)
         return (out, owners) if with_segments else out
 
 

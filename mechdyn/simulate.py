@@ -408,15 +408,14 @@ class _Run:
                 if not np.all(np.isfinite(y_new)):
                     raise SimulationError(f"integration failed at t = {solver.t:.6g} s: the "
                                           f"state became non-finite ({self._state_text(y_new)})")
-                dense = solver.dense_output()
                 g_new = [w[0](solver.t, y_new) for w in watched]
-                fired = self._locate(watched, g_old, g_new, dense, t_old, solver.t)
+                fired = self._locate(watched, g_old, g_new, solver, t_old)
                 if fired:
-                    t_event, indices = fired
+                    t_event, indices, dense = fired
                     y_event = dense(t_event)
                     segment.add(t_event, y_event, dense)
                     return t_event, y_event, [(watched[i][2], watched[i][3]) for i in indices]
-                segment.add(solver.t, y_new, dense)
+                segment.add(solver.t, y_new, solver.dense_output() if self.scene.dense else None)
                 g_old = g_new
         except (ArithmeticError, ValueError) as error:
             raise SimulationError(
@@ -428,13 +427,15 @@ class _Run:
         return None
 
     @staticmethod
-    def _locate(watched, g_old, g_new, dense, t_old, t_new):
-        """The earliest event in the step and every event at that same instant."""
-        roots = []
+    def _locate(watched, g_old, g_new, solver, t_old):
+        """The earliest event in the step, every event at that same instant, and the
+        step's dense output (built only here when the scene keeps none)."""
+        roots, dense, t_new = [], None, solver.t
         for i, ((function, direction, _, _), a, b) in enumerate(zip(watched, g_old, g_new)):
             crossed = (a < 0 <= b) if direction > 0 else (a > 0 >= b)
             if a == 0 or not crossed:
                 continue
+            dense = dense or solver.dense_output()
             if b == 0:
                 root = t_new
             else:
@@ -445,7 +446,7 @@ class _Run:
             return None
         first = min(r for r, _ in roots)
         same = 1e-12 * max(1.0, abs(first))
-        return first, [i for r, i in roots if r - first <= same]
+        return first, [i for r, i in roots if r - first <= same], dense
 
     def _count(self, solver):
         """Add a finished segment's solver counts to the run's statistics."""
