@@ -389,6 +389,7 @@ class _Run:
             return None
         fun, jac, p = self._functions(mode)
         watched = self._event_functions(mode, p, t0, y0)
+        self._mass_scale = float(np.max(np.abs(self._terms(t0, y0, p)[0])))
         options = {"rtol": self.scene.rtol, "atol": self.atol}
         if jac is not None:
             options["jac"] = jac
@@ -403,7 +404,8 @@ class _Run:
                 self.stats["steps"] += 1
                 if solver.status == "failed":
                     raise SimulationError(f"integration failed at t = {solver.t:.6g} s: "
-                                          f"{message}; state {self._state_text(solver.y)}")
+                                          f"{message}; state {self._state_text(solver.y)}"
+                                          + self._singularity_hint(solver.t, solver.y, p))
                 y_new = solver.y
                 if not np.all(np.isfinite(y_new)):
                     raise SimulationError(f"integration failed at t = {solver.t:.6g} s: the "
@@ -453,6 +455,21 @@ class _Run:
         self.stats["nfev"] += solver.nfev
         self.stats["njev"] += getattr(solver, "njev", 0)
         self.stats["nlu"] += getattr(solver, "nlu", 0)
+
+    def _singularity_hint(self, t, y, p) -> str:
+        """Why steps collapse, when it is a nearly singular mass matrix (a dead centre)."""
+        try:
+            mass = self._terms(t, y, p)[0]
+            eigenvalues = np.linalg.eigvalsh(mass)
+        except (ArithmeticError, ValueError, np.linalg.LinAlgError):
+            return ""
+        scale = max(abs(eigenvalues[-1]), self._mass_scale)
+        if eigenvalues[0] > 1e-9 * scale:
+            return ""
+        return (f". The mass matrix is nearly singular there (smallest eigenvalue "
+                f"{eigenvalues[0]:.3g} of {eigenvalues[-1]:.3g}): the reduced inertia of "
+                f"{', '.join(self.c.coordinates)} vanishes at this configuration, a dead "
+                "centre of the chosen coordinate")
 
     def _state_text(self, y):
         return ", ".join(f"{name} = {value:.6g}" for name, value in zip(self.c.state_names, y))
