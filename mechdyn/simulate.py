@@ -152,32 +152,43 @@ def _atol_vector(compiled, scene):
 
 
 def choose_method(compiled, p, y0, t0, t_limit, rtol) -> str:
-    """Pick an integrator by measuring the problem: the spectral radius of the analytic
+    """Pick an integrator by measuring the problem: the eigenvalues of the analytic
     Jacobian at the start against the slowest time scale of the run.
 
-    If stability alone would force an explicit method to take more than
-    ``_STIFFNESS_LIMIT`` steps, the problem is stiff: Radau with the analytic Jacobian.
-    Otherwise DOP853 (tight tolerances) or RK45 (loose ones). The slow scale is the
-    smallest non-zero eigenvalue magnitude, or the run length when the motion has a
-    rigid-body (zero) mode.
+    - Damped fast modes (large negative real parts): stiff, Radau with the analytic
+      Jacobian, once stability alone would cost an explicit method more than
+      ``_STIFFNESS_LIMIT`` steps.
+    - Undamped fast modes (large imaginary parts only) are real oscillations. At tight
+      tolerances they must be resolved, which an explicit method does ~10x faster
+      (measured: 1e5 rad/s coupling over 1 s, DOP853 39 s, Radau 385 s); at rtol >= 1e-6
+      Radau steps over them (34 steps) and gives the rigid limit.
+    - Otherwise DOP853 (rtol < 1e-6) or RK45.
+
+    The slow scale is the smallest non-zero eigenvalue magnitude, or the run length when
+    the motion has a rigid-body (zero) mode.
     """
+    explicit = "DOP853" if rtol < 1e-6 else "RK45"
     try:
         jacobian = compiled.jac(t0, y0, p)
     except (ArithmeticError, ValueError):
-        jacobian = np.full((len(y0), len(y0)), np.nan)
+        return explicit                           # the integration will name the fault
     if not np.all(np.isfinite(jacobian)):
-        return "DOP853" if rtol < 1e-6 else "RK45"    # the integration will name the fault
-    eigenvalues = np.abs(np.linalg.eigvals(jacobian))
-    fastest = eigenvalues.max(initial=0.0)
-    scale = max(fastest, 1.0) * 1e-9
-    nonzero = eigenvalues[eigenvalues > scale]
-    has_rigid_mode = len(nonzero) < len(eigenvalues)
-    slowest = 1.0 / (t_limit - t0) if has_rigid_mode or len(nonzero) == 0 else nonzero.min()
-    if has_rigid_mode and len(nonzero):
+        return explicit
+    eigenvalues = np.linalg.eigvals(jacobian)
+    magnitude = np.abs(eigenvalues)
+    fastest = magnitude.max(initial=0.0)
+    nonzero = magnitude[magnitude > max(fastest, 1.0) * 1e-9]
+    slowest = 1.0 / (t_limit - t0)
+    if len(nonzero) == len(magnitude) and len(nonzero):
+        slowest = nonzero.min()
+    elif len(nonzero):
         slowest = max(slowest, min(nonzero.min(), 1.0))
-    if fastest / max(slowest, 1e-300) > _STIFFNESS_LIMIT:
+    damped = np.max(-eigenvalues.real, initial=0.0)
+    if damped / slowest > _STIFFNESS_LIMIT:
         return "Radau"
-    return "DOP853" if rtol < 1e-6 else "RK45"
+    if fastest / slowest > _STIFFNESS_LIMIT and rtol >= 1e-6:
+        return "Radau"
+    return explicit
 
 
 # ------------------------------------------------------------------- the run
