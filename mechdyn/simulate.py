@@ -398,12 +398,13 @@ class _Run:
         Returns ``(t, y, fired)`` at an event, ``None`` at the time limit."""
         if t0 >= t_limit:
             return None
-        fun, jac, p = self._functions(mode)
+        raw_fun, jac, p = self._functions(mode)
+        fun = _tolerant(raw_fun, (2 * self.n,))
         watched = self._event_functions(mode, p, t0, y0)
         self._mass_scale = float(np.max(np.abs(self._terms(t0, y0, p)[0])))
         options = {"rtol": self.scene.rtol, "atol": self.atol}
         if jac is not None:
-            options["jac"] = jac
+            options["jac"] = _tolerant(jac, (2 * self.n, 2 * self.n))
         solver = METHODS[self.method](fun, t0, y0, t_limit, **options)
         self.stats["segments"] += 1
         segment = self.trajectory.start_segment(t0, y0, mode.signs, mode.stuck)
@@ -416,6 +417,7 @@ class _Run:
                 if solver.status == "failed":
                     raise SimulationError(f"integration failed at t = {solver.t:.6g} s: "
                                           f"{message}; state {self._state_text(solver.y)}"
+                                          + _evaluation_fault(raw_fun, solver.t, solver.y)
                                           + self._singularity_hint(solver.t, solver.y, p))
                 y_new = solver.y
                 if not np.all(np.isfinite(y_new)):
@@ -505,3 +507,31 @@ def _parallel_groups(grads, stuck):
         else:
             groups.append([(k, 1.0)])
     return groups
+
+
+_EVALUATION_ERRORS = (ArithmeticError, ValueError, SimulationError, np.linalg.LinAlgError)
+
+
+def _tolerant(function, shape):
+    """``function`` as the solver should see it: NaN where the equations cannot be
+    evaluated (an overflowing trial stage, a singular mass matrix there), so the step is
+    rejected and shrunk as for any NaN. Real failures surface as a collapsing step size."""
+    failed = np.full(shape, np.nan)
+
+    def guarded(t, y):
+        try:
+            return function(t, y)
+        except _EVALUATION_ERRORS:
+            return failed
+    return guarded
+
+
+def _evaluation_fault(function, t, y) -> str:
+    """Why the equations cannot be evaluated at a state, if they cannot."""
+    try:
+        values = np.asarray(function(t, y), dtype=float)
+    except _EVALUATION_ERRORS as error:
+        return f". The equations cannot be evaluated there: {type(error).__name__}: {error}"
+    if not np.all(np.isfinite(values)):
+        return ". The equations give non-finite values there (overflow or division by zero)"
+    return ""
