@@ -33,7 +33,8 @@ _LAZY = {
     **dict.fromkeys(["periodic_steady_state", "floquet", "forcing_period", "Floquet",
                      "PeriodicSolution", "PeriodicError", "NoPeriodicSolutionError"],
                     "periodic"),
-    **dict.fromkeys(["steady_running", "flywheel", "SteadyRunning", "Flywheel"], "flywheel"),
+    **dict.fromkeys(["steady_running", "flywheel", "SteadyRunning", "Flywheel"],
+                    "fluctuation"),
 }
 _LAZY_MODULES = {"reduction"}
 

@@ -164,6 +164,47 @@ def _add_precision_command(commands):
     precision.set_defaults(run=_precision)
 
 
+def _periodic(args):
+    from .fluctuation import applies, steady_running
+    from .model_file import load_model
+    from .periodic import periodic_steady_state
+    model = load_model(args.model)
+    scene = model.scene(args.scene)
+    params = _params(model, args.param)
+    if args.period is None and applies(model.mechanism, scene):
+        solution = steady_running(model.mechanism, scene, params, cycle=args.cycle)
+    else:
+        solution = periodic_steady_state(model.mechanism, scene, params, period=args.period)
+    print(solution.summary())
+    if args.plot:
+        solution.plot(args.plot)
+        print(f"wrote {args.plot}")
+    return 0
+
+
+def _add_periodic_command(commands):
+    from .parse import number
+    periodic = commands.add_parser(
+        "periodic", help="steady periodic motion, Floquet multipliers, speed fluctuation",
+        description="Find the periodic motion of a scene: under periodic forcing or "
+        "parametric excitation (period T: --period, else from the sines and cosines of t), "
+        "the periodic state, the swing of every state and the Floquet multipliers; for a "
+        "one-DOF machine free of t, steady running over a cycle of its coordinate with the "
+        "coefficient of speed fluctuation delta.",
+        epilog="examples:\n  mechdyn periodic models/loom_sley.py --scene run --plot loom.png\n"
+        "  mechdyn periodic models/press_flywheel.py --scene steady --param J_f=2",
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    _model_argument(periodic)
+    _scene_argument(periodic)
+    _param_argument(periodic)
+    periodic.add_argument("--period", type=number, metavar="T",
+                          help="period in s (a number or arithmetic such as 2*pi/26.18)")
+    periodic.add_argument("--cycle", type=number, default="2*pi", metavar="PHI",
+                          help="cycle of a one-DOF machine's coordinate (default 2*pi)")
+    periodic.add_argument("--plot", metavar="FILE.png", help="save one period as a figure")
+    periodic.set_defaults(run=_periodic)
+
+
 def _models(args):
     from pathlib import Path
 
@@ -400,6 +441,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_models_command(commands)
     _add_report_command(commands)
     _add_sweep_command(commands)
+    _add_periodic_command(commands)
     for command in commands.choices.values():
         command.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
                              help="show the traceback of an error")
