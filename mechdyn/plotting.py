@@ -10,7 +10,7 @@ import numpy as np
 
 from .errors import MechdynError
 
-__all__ = ["plot_result", "plot_sweep", "pyplot"]
+__all__ = ["plot_result", "plot_sweep", "pyplot", "dense_series"]
 
 
 def pyplot():
@@ -27,6 +27,21 @@ def pyplot():
     return plt
 
 
+def dense_series(result, points=1001):
+    """Times, states and outputs at the step points and ``points`` even times between,
+    so curves are smooth and peaks between steps are found (the step points alone when
+    the run kept no dense output)."""
+    if len(result.t) < 2:
+        return result.t, result.y, result.outputs
+    times = np.union1d(np.linspace(result.t[0], result.t[-1], points), result.t)
+    try:
+        states = result.trajectory.at(times)
+        outputs = result.outputs_at(times) if result.outputs else result.outputs
+    except MechdynError:
+        return result.t, result.y, result.outputs
+    return times, states, outputs
+
+
 def plot_result(result, path=None, points=400):
     """Plot a :class:`~mechdyn.result.Result`; save to ``path`` if given.
 
@@ -37,12 +52,7 @@ def plot_result(result, path=None, points=400):
     """
     plt = pyplot()
     n = result.compiled.dof
-    t, states = result.t, result.y
-    outputs = result.outputs
-    if len(result.t) > 1 and result.scene.dense:
-        t = np.union1d(np.linspace(result.t[0], result.t[-1], points), result.t)
-        states = result.trajectory.at(t)
-        outputs = result.outputs_at(t) if outputs else outputs
+    t, states, outputs = dense_series(result, points)
     units = [result.units.get(name, "rad") for name in result.coordinates]
     panels = [("speed", [(f"d{c}/dt", states[n + i], f"{u}/s")
                          for i, (c, u) in enumerate(zip(result.coordinates, units))]),

@@ -19,6 +19,7 @@ import numpy as np
 import sympy as sp
 
 from .errors import MechdynError
+from .stepping import replay
 from .symbols import is_coordinate
 
 __all__ = ["Result", "Event", "Trajectory"]
@@ -38,16 +39,26 @@ class Event:
 
 
 class _Segment:
-    """Steps of one friction mode: times, states, dense interpolants per step."""
+    """Steps of one friction mode: times and states, and how to replay a step for its
+    dense output (``method, fun, jac, rtol, atol``)."""
 
-    def __init__(self, t0, y0, signs, stuck):
-        self.t, self.y, self.dense = [t0], [np.array(y0, dtype=float)], []
+    def __init__(self, t0, y0, signs, stuck, integration):
+        self.t, self.y = [t0], [np.array(y0, dtype=float)]
         self.signs, self.stuck = list(signs), list(stuck)
+        self.integration = integration
+        self._interpolants = {}
 
-    def add(self, t, y, dense):
+    def add(self, t, y):
         self.t.append(t)
         self.y.append(np.array(y, dtype=float))
-        self.dense.append(dense)
+
+    def interpolant(self, k):
+        """Dense output of step ``k`` (from ``t[k]`` to ``t[k + 1]``), replayed once."""
+        if k not in self._interpolants:
+            method, fun, jac, rtol, atol = self.integration
+            self._interpolants[k] = replay(method, fun, jac, self.t[k], self.y[k],
+                                           self.t[k + 1], rtol, atol)
+        return self._interpolants[k]
 
 
 class Trajectory:
@@ -57,8 +68,8 @@ class Trajectory:
         self.compiled = compiled
         self.segments: list[_Segment] = []
 
-    def start_segment(self, t0, y0, signs, stuck) -> _Segment:
-        self.segments.append(_Segment(t0, y0, signs, stuck))
+    def start_segment(self, t0, y0, signs, stuck, integration) -> _Segment:
+        self.segments.append(_Segment(t0, y0, signs, stuck, integration))
         return self.segments[-1]
 
     def replace_last_state(self, y):
@@ -78,8 +89,8 @@ class Trajectory:
         return np.array(times), np.array(states).T, np.array(owner)
 
     def at(self, times, with_segments=False):
-        """States at ``times`` from the solvers' dense output (shape ``(2n, len)``), and
-        with ``with_segments`` the index of the segment (friction mode) of each time."""
+        """States at ``times`` from dense output (shape ``(2n, len)``), and with
+        ``with_segments`` the index of the segment (friction mode) of each time."""
         times = np.atleast_1d(np.asarray(times, dtype=float))
         out = np.empty((2 * self.compiled.dof, len(times)))
         owners = np.empty(len(times), dtype=int)
@@ -92,19 +103,14 @@ class Trajectory:
             owner = next((i for i, end in enumerate(ends) if value <= end), len(ends) - 1)
             segment = self.segments[owner]
             owners[j] = owner
-            if not segment.dense:
-                out[:, j] = segment.y[0]
-                continue
             k = max(min(int(np.searchsorted(segment.t, value, side="left")),
-                        len(segment.dense)), 1)
-            if segment.dense[k - 1] is None:
-                if value in (segment.t[k - 1], segment.t[k]):
-                    out[:, j] = segment.y[k - 1 if value == segment.t[k - 1] else k]
-                    continue
-                raise MechdynError(f"t = {value}: this run kept no dense output "
-                                   "(Scene(dense=False)); use res.t and res.y, or rerun "
-                                   "with dense=True")
-            out[:, j] = segment.dense[k - 1](value)
+                        len(segment.t) - 1), 1)
+            if value == segment.t[k] or len(segment.t) == 1:
+                out[:, j] = segment.y[min(k, len(segment.y) - 1)]
+            elif value == segment.t[k - 1]:
+                out[:, j] = segment.y[k - 1]
+            else:
+                out[:, j] = segment.interpolant(k - 1)(value)
         return (out, owners) if with_segments else out
 
 

@@ -89,10 +89,6 @@ class Scene:
         Tolerances (``atol`` may be a dict per state, with an optional ``"default"``).
     t_start : float
         Start time.
-    dense : bool
-        Keep the solvers' dense output of every step (``Result.at``, smooth plots). Long
-        runs may switch it off: steps are then kept as points only, and dense output is
-        built just where an event must be located.
     """
     name: str
     effects: tuple | None = None
@@ -105,7 +101,6 @@ class Scene:
     rtol: float = 1e-8
     atol: float = 1e-10
     t_start: float = 0.0
-    dense: bool = True
 
     def __post_init__(self):
         if self.effects is not None:

@@ -23,7 +23,6 @@ import time
 
 import numpy as np
 import sympy as sp
-from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, Radau
 from scipy.optimize import brentq
 
 from .compile import SingularMassError, compile_scene
@@ -31,12 +30,10 @@ from .elements import Link
 from .errors import ParameterError, SceneError, SimulationError
 from .result import Event, Result, Trajectory
 from .scene import Scene
+from .stepping import METHODS, WITH_JACOBIAN, run_steps
 
 __all__ = ["simulate", "choose_method", "METHODS"]
 
-METHODS = {"RK45": RK45, "RK23": RK23, "DOP853": DOP853, "Radau": Radau, "BDF": BDF,
-           "LSODA": LSODA}
-_WITH_JACOBIAN = {"Radau", "BDF", "LSODA"}
 _STIFFNESS_LIMIT = 2000.0   # explicit steps forced by stability alone; see choose_method
 _EPS = np.finfo(float).eps
 
@@ -301,7 +298,7 @@ class _Run:
         p = self.base + mode.signs
         rhs = self.c.rhs
         if not mode.stuck:
-            jac = (lambda t, y: self.c.jac(t, y, p)) if self.method in _WITH_JACOBIAN else None
+            jac = (lambda t, y: self.c.jac(t, y, p)) if self.method in WITH_JACOBIAN else None
             return (lambda t, y: rhs(t, y, p)), jac, p
         frozen = [self.c.frozen[k] for k in mode.stuck if self.c.frozen[k] >= 0]
         n = self.n
@@ -400,57 +397,56 @@ class _Run:
             return None
         raw_fun, jac, p = self._functions(mode)
         fun = _tolerant(raw_fun, (2 * self.n,))
+        jac = _tolerant(jac, (2 * self.n, 2 * self.n)) if jac is not None else None
         watched = self._event_functions(mode, p, t0, y0)
         self._mass_scale = float(np.max(np.abs(self._terms(t0, y0, p)[0])))
-        options = {"rtol": self.scene.rtol, "atol": self.atol}
-        if jac is not None:
-            options["jac"] = _tolerant(jac, (2 * self.n, 2 * self.n))
-        solver = METHODS[self.method](fun, t0, y0, t_limit, **options)
+        rtol, atol = self.scene.rtol, self.atol
         self.stats["segments"] += 1
-        segment = self.trajectory.start_segment(t0, y0, mode.signs, mode.stuck)
-        g_old = [w[0](t0, y0) for w in watched]
+        segment = self.trajectory.start_segment(t0, y0, mode.signs, mode.stuck,
+                                                (self.method, fun, jac, rtol, atol))
+        state = {"g": [w[0](t0, y0) for w in watched], "fired": None}
+
+        def on_step(t_old, y_old, t, y, dense):
+            if not np.all(np.isfinite(y)):
+                raise SimulationError(f"integration failed at t = {t:.6g} s: the state "
+                                      f"became non-finite ({self._state_text(y)})")
+            g_new = [w[0](t, y) for w in watched]
+            fired = self._locate(watched, state["g"], g_new, dense, t_old, t)
+            if fired:
+                t_event, indices, interpolant = fired
+                y_event = interpolant(t_event)
+                segment.add(t_event, y_event)
+                state["fired"] = (t_event, y_event,
+                                  [(watched[i][2], watched[i][3]) for i in indices])
+                return True
+            segment.add(t, y)
+            state["g"] = g_new
+            return False
         try:
-            while solver.status == "running":
-                t_old = solver.t
-                message = solver.step()
-                self.stats["steps"] += 1
-                if solver.status == "failed":
-                    raise SimulationError(f"integration failed at t = {solver.t:.6g} s: "
-                                          f"{message}; state {self._state_text(solver.y)}"
-                                          + _evaluation_fault(raw_fun, solver.t, solver.y)
-                                          + self._singularity_hint(solver.t, solver.y, p))
-                y_new = solver.y
-                if not np.all(np.isfinite(y_new)):
-                    raise SimulationError(f"integration failed at t = {solver.t:.6g} s: the "
-                                          f"state became non-finite ({self._state_text(y_new)})")
-                g_new = [w[0](solver.t, y_new) for w in watched]
-                fired = self._locate(watched, g_old, g_new, solver, t_old)
-                if fired:
-                    t_event, indices, dense = fired
-                    y_event = dense(t_event)
-                    segment.add(t_event, y_event, dense)
-                    return t_event, y_event, [(watched[i][2], watched[i][3]) for i in indices]
-                segment.add(solver.t, y_new, solver.dense_output() if self.scene.dense else None)
-                g_old = g_new
+            status, message, t, y, counts = run_steps(self.method, fun, jac, t0, y0,
+                                                      t_limit, rtol, atol, on_step)
         except (ArithmeticError, ValueError) as error:
             raise SimulationError(
-                f"integration failed near t = {solver.t:.6g} s: {type(error).__name__}: "
-                f"{error} while evaluating the equations at state "
-                f"{self._state_text(solver.y)}") from error
-        finally:
-            self._count(solver)
-        return None
+                f"integration failed near t = {segment.t[-1]:.6g} s: {type(error).__name__}: "
+                f"{error} while evaluating the events at state "
+                f"{self._state_text(segment.y[-1])}") from error
+        self._count(counts)
+        if status == "failed":
+            raise SimulationError(f"integration failed at t = {t:.6g} s: {message}; state "
+                                  f"{self._state_text(y)}" + _evaluation_fault(raw_fun, t, y)
+                                  + self._singularity_hint(t, y, p))
+        return state["fired"]
 
     @staticmethod
-    def _locate(watched, g_old, g_new, solver, t_old):
+    def _locate(watched, g_old, g_new, make_dense, t_old, t_new):
         """The earliest event in the step, every event at that same instant, and the
-        step's dense output (built only here when the scene keeps none)."""
-        roots, dense, t_new = [], None, solver.t
+        step's interpolant (built only when an event must be located)."""
+        roots, dense = [], None
         for i, ((function, direction, _, _), a, b) in enumerate(zip(watched, g_old, g_new)):
             crossed = (a < 0 <= b) if direction > 0 else (a > 0 >= b)
             if a == 0 or not crossed:
                 continue
-            dense = dense or solver.dense_output()
+            dense = dense or make_dense()
             if b == 0:
                 root = t_new
             else:
@@ -463,11 +459,10 @@ class _Run:
         same = 1e-12 * max(1.0, abs(first))
         return first, [i for r, i in roots if r - first <= same], dense
 
-    def _count(self, solver):
+    def _count(self, counts):
         """Add a finished segment's solver counts to the run's statistics."""
-        self.stats["nfev"] += solver.nfev
-        self.stats["njev"] += getattr(solver, "njev", 0)
-        self.stats["nlu"] += getattr(solver, "nlu", 0)
+        for key, value in counts.items():
+            self.stats[key] += value
 
     def _singularity_hint(self, t, y, p) -> str:
         """Why steps collapse, when it is a nearly singular mass matrix (a dead centre)."""
