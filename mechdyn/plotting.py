@@ -28,18 +28,13 @@ def pyplot():
 
 
 def dense_series(result, points=1001):
-    """Times, states and outputs at the step points and ``points`` even times between,
-    so curves are smooth and peaks between steps are found (the step points alone when
-    the run kept no dense output)."""
+    """Times, states and outputs at the step points and ``points`` even times between
+    (from the dense output), so curves are smooth and peaks between steps are found."""
     if len(result.t) < 2:
         return result.t, result.y, result.outputs
     times = np.union1d(np.linspace(result.t[0], result.t[-1], points), result.t)
-    try:
-        states = result.trajectory.at(times)
-        outputs = result.outputs_at(times) if result.outputs else result.outputs
-    except MechdynError:
-        return result.t, result.y, result.outputs
-    return times, states, outputs
+    outputs = result.outputs_at(times) if result.outputs else result.outputs
+    return times, result.trajectory.at(times), outputs
 
 
 def plot_result(result, path=None, points=400):

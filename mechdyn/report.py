@@ -24,6 +24,7 @@ from sympy.core.function import AppliedUndef
 
 from .errors import SimulationError
 from .latex import derivation_latex, derivation_steps
+from .plotting import dense_series
 from .symbols import plain
 
 __all__ = ["report", "Report", "result_html", "mechanism_html"]
@@ -194,13 +195,14 @@ def _results(result, failure) -> str:
         return "".join(parts)
     parts.append(f"<p>Ended at t = {result.t_end:.6g} s ({_e(result.reason)}).</p>")
     n = result.compiled.dof
+    _, states, outputs = dense_series(result)        # peaks between steps too
     rows = []
     for i, name in enumerate(result.coordinates):
         unit = result.units.get(name, "rad")
-        for label, values, u in ((name, result.y[i], unit), (f"d{name}/dt", result.y[n + i],
-                                                            f"{unit}/s")):
+        for label, values, u in ((name, states[i], unit), (f"d{name}/dt", states[n + i],
+                                                          f"{unit}/s")):
             rows.append(_value_row(label, values, u))
-    rows += [_value_row(label, values, "") for label, values in result.outputs.items()]
+    rows += [_value_row(label, values, "") for label, values in outputs.items()]
     parts.append("<table><tr><th>quantity</th><th>start</th><th>final</th><th>peak</th>"
                  "<th>unit</th></tr>" + "".join(rows) + "</table>")
     if result.events:

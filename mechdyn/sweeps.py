@@ -34,6 +34,7 @@ import numpy as np
 
 from .compile import CompiledScene, compile_scene
 from .errors import MechdynError, ParameterError
+from .plotting import dense_series
 
 __all__ = ["sweep", "Sweep", "SweepFileError"]
 
@@ -201,22 +202,9 @@ def _run_point(digest, blob, point):
     row.update(t_end=result.t_end, reason=result.reason, error="")
     for name, values in zip(result.state_names, result.y):
         row[f"final:{name}"] = float(values[-1])
-    for label, values in _dense_outputs(result).items():
+    for label, values in dense_series(result)[2].items():
         row[f"peak:{label}"] = float(values[np.argmax(np.abs(values))])
     return row
-
-
-def _dense_outputs(result, points=1001):
-    """Outputs at the step points and ``points`` even times between, so that peaks
-    between steps are not missed (step points alone only when a run kept no dense
-    output)."""
-    if not result.outputs or len(result.t) < 2:
-        return result.outputs
-    times = np.union1d(np.linspace(result.t[0], result.t[-1], points), result.t)
-    try:
-        return result.outputs_at(times)
-    except MechdynError:
-        return result.outputs
 
 
 def _run(job, todo, table, executor, bar):

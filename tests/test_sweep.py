@@ -147,7 +147,8 @@ def test_output_peaks_are_found_between_steps():
     from scipy.optimize import minimize_scalar
     model = md.load_model(ROOT / "models" / "motor_startup.py")
     M_k, s_k, omega_s = 200.0, 0.2, 157.08
-    assert {str(k): float(v) for k, v in model.params.items()}["M_k"] == M_k
+    values = {str(k): float(v) for k, v in model.params.items()}
+    assert (values["M_k"], values["s_k"], values["omega_s"]) == (M_k, s_k, omega_s)
     power = minimize_scalar(lambda s: -2 * M_k / (s / s_k + s_k / s) * omega_s * (1 - s),
                             bounds=(0.01, 1.0), method="bounded", options={"xatol": 1e-12})
     table = md.sweep(model.mechanism, model.scenes["startup"], model.params,
