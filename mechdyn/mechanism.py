@@ -48,9 +48,11 @@ class Mechanism:
         Shown in reports.
     coordinates : list
         Generalized coordinates made with :func:`mechdyn.coordinate`.
+    units : dict, optional
+        Unit of each coordinate for summaries and plots, ``{x: "m"}``; default ``"rad"``.
     """
 
-    def __init__(self, name: str, coordinates):
+    def __init__(self, name: str, coordinates, units=None):
         coordinates = list(coordinates)
         if not coordinates:
             raise DeclarationError(f"mechanism {name!r}: give at least one coordinate")
@@ -65,6 +67,12 @@ class Mechanism:
                 raise DeclarationError(f"mechanism {name!r}: coordinate {n!r} declared twice")
         self.name = name
         self.coordinates = tuple(coordinates)
+        self.units = {}
+        for q, unit in (units or {}).items():
+            if q not in self.coordinates:
+                raise DeclarationError(f"mechanism {name!r}: units given for {q}, which is "
+                                       f"not one of its coordinates {_names(coordinates)}")
+            self.units[q.func.__name__] = str(unit)
         self.elements: dict[str, Element] = {}
         self._speeds = {sp.Derivative(q, t) for q in self.coordinates}
         self._derived = {}

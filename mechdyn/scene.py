@@ -128,9 +128,11 @@ class Scene:
         if self.t_end is not None and not self.t_end > self.t_start:
             raise SceneError(f"scene {self.name!r}: t_end = {self.t_end} must be later "
                              f"than the start {self.t_start}")
-        for tol in ("rtol", "atol"):
-            if not getattr(self, tol) > 0:
-                raise SceneError(f"scene {self.name!r}: {tol} must be positive")
+        atol = self.atol.values() if isinstance(self.atol, dict) else [self.atol]
+        for name, value in [("rtol", self.rtol)] + [("atol", a) for a in atol]:
+            if not (isinstance(value, (int, float)) and value > 0):
+                raise SceneError(f"scene {self.name!r}: {name} must be a positive number, "
+                                 f"got {value!r}")
 
     @property
     def time_limit(self) -> float:

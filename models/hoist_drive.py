@@ -32,7 +32,7 @@ M_k, s_k, omega_0, M_br = sp.symbols("M_k s_k omega_0 M_br", positive=True)
 i = i_1 * i_2
 drum_arc = r_b * phi / i
 
-mechanism = md.Mechanism("Hoist drive", coordinates=[phi, h])
+mechanism = md.Mechanism("Hoist drive", coordinates=[phi, h], units={h: "m"})
 mechanism.link("motor rotor", J=J_m, angle=phi)
 mechanism.link("coupling", J=J_c, angle=phi)
 mechanism.link("intermediate shaft", J=J_g, angle=phi / i_1)

@@ -38,7 +38,8 @@ s_A, s_B = sword(crank_A), sword(crank_B)
 bend_3 = x_3 - (2 * s_A + s_B) / 3     # deflection of the beam at mass 3
 bend_4 = x_4 - (s_A + 2 * s_B) / 3
 
-mechanism = md.Mechanism("Loom sley drive", coordinates=[phi_2, x_3, x_4])
+mechanism = md.Mechanism("Loom sley drive", coordinates=[phi_2, x_3, x_4],
+                         units={x_3: "m", x_4: "m"})
 mechanism.link("crank B", J=J_2, angle=crank_B)
 mechanism.link("sword B", m=m_s, x=s_B)
 mechanism.link("beam 3", m=m_3, x=x_3)

@@ -163,3 +163,14 @@ def test_energy_balance_on_bundled_scenes(name, scene_name):
     work = _work_of(res, labels)
     scale = max(abs(kinetic).max(), abs(work), 1.0)
     assert change == pytest.approx(work, abs=1e-7 * scale)
+
+
+def test_per_state_absolute_tolerances():
+    model = load("rope_hoist")
+    phi2 = model.mechanism.coordinates[0]
+    scene = dataclasses.replace(model.scenes["startup"], method="RK45",
+                                atol={phi2: 1e-9, md.speed(phi2): 1e-11, "default": 1e-10})
+    res = model.mechanism.simulate(scene, model.params)
+    assert res.final(md.speed(phi2)) == pytest.approx(3 + (5.472 * 3 + 24 * 9) / 11.9, rel=1e-9)
+    with pytest.raises(md.SceneError, match="atol"):
+        md.Scene("bad", initial={}, t_end=1, atol={phi2: -1.0})
