@@ -113,7 +113,7 @@ class CompiledScene:
     def jac(self, t_value, y, p):
         """Analytic Jacobian d(dy/dt)/dy of :meth:`rhs` (a ``2n x 2n`` array)."""
         n = self.dof
-        if n == 1:
+        if n <= _UNROLLED_LIMIT:
             return np.array(self._jac(t_value, y, p), dtype=float)
         flat = self._jac(t_value, y, p)
         mass = np.array(flat[:n * n]).reshape(n, n)
@@ -244,7 +244,8 @@ def generate(eqs, scene, elements) -> tuple:
     mass = eqs.mass_matrix.xreplace(rename)
     forcing = forcing.xreplace(rename)
     sources = [_rhs_source(mass, forcing, n, arguments, parameters, coordinates, doc),
-               _jac_source(mass, forcing, q_names, u_names, arguments, parameters, doc)]
+               _jac_source(mass, forcing, q_names, u_names, arguments, parameters, doc,
+                           coordinates)]
     grads = [r(g) for fr in frictions for g in fr.gradient]
     term_exprs = list(mass) + list(forcing) + grads + [r(fr.bias) for fr in frictions] \
         + [r(fr.magnitude) for fr in frictions] + [r(fr.rate) for fr in frictions]
@@ -334,6 +335,38 @@ def _element_output(eqs, scene, name, elements):
                      " has no single force to record; ask for an expression instead")
 
 
+def _cholesky_lines(n, m, coordinates):
+    """Source lines factoring ``M = L L'`` (``m[(i, j)]``: names of the lower entries);
+    a pivot that is not positive raises SingularMassError naming its coordinate."""
+    lines = []
+    for i in range(n):
+        for j in range(i):
+            acc = " - ".join([m[(i, j)]] + [f"L{i}{k} * L{j}{k}" for k in range(j)])
+            lines.append(f"L{i}{j} = ({acc}) / L{j}{j}")
+        diag = " - ".join([m[(i, i)]] + [f"L{i}{k} * L{i}{k}" for k in range(i)])
+        lines.append(f"L{i}{i} = {diag}")
+        lines.append(f"if not L{i}{i} > 0: raise SingularMassError({coordinates[i]!r}, t, y)")
+        lines.append(f"L{i}{i} = sqrt(L{i}{i})")
+    return lines
+
+
+def _solve_lines(n, rhs, out):
+    """Source lines solving ``L L' out = rhs`` with the factor of :func:`_cholesky_lines`
+    (``rhs``: n expressions; ``out``: the prefix of the n result names)."""
+    lines = []
+    for i in range(n):
+        acc = " - ".join([rhs[i]] + [f"L{i}{k} * {out}z{k}" for k in range(i)])
+        lines.append(f"{out}z{i} = ({acc}) / L{i}{i}")
+    for i in reversed(range(n)):
+        acc = " - ".join([f"{out}z{i}"] + [f"L{k}{i} * {out}{k}" for k in range(i + 1, n)])
+        lines.append(f"{out}{i} = ({acc}) / L{i}{i}")
+    return lines
+
+
+def _lower(n):
+    return [(i, j) for i in range(n) for j in range(i + 1)]
+
+
 def _rhs_source(mass, forcing, n, arguments, parameters, coordinates, doc):
     """dy/dt = [u, M^-1 f] with an unrolled Cholesky solve (numpy beyond the limit)."""
     if n > _UNROLLED_LIMIT:
@@ -341,31 +374,17 @@ def _rhs_source(mass, forcing, n, arguments, parameters, coordinates, doc):
         body = ("return _solve([" + "{}, " * (n * n) + "], [" + "{}, " * n + "], y, "
                 f"{n}, t, {coordinates!r})")
         return function_source("rhs", arguments, parameters, exprs, body, doc) + _NUMPY_SOLVE
-    lower = [(i, j) for i in range(n) for j in range(i + 1)]
+    lower = _lower(n)
     exprs = [mass[i, j] for i, j in lower] + list(forcing)
-    checks = []
     m = {ij: f"_e{k}" for k, ij in enumerate(lower)}
     f = [f"_e{len(lower) + i}" for i in range(n)]
-    for i in range(n):
-        for j in range(i):
-            acc = " - ".join([m[(i, j)]] + [f"L{i}{k} * L{j}{k}" for k in range(j)])
-            checks.append(f"L{i}{j} = ({acc}) / L{j}{j}")
-        diag = " - ".join([m[(i, i)]] + [f"L{i}{k} * L{i}{k}" for k in range(i)])
-        checks.append(f"L{i}{i} = {diag}")
-        checks.append(f"if not L{i}{i} > 0: raise SingularMassError({coordinates[i]!r}, t, y)")
-        checks.append(f"L{i}{i} = sqrt(L{i}{i})")
-    for i in range(n):
-        acc = " - ".join([f[i]] + [f"L{i}{k} * z{k}" for k in range(i)])
-        checks.append(f"z{i} = ({acc}) / L{i}{i}")
-    for i in reversed(range(n)):
-        acc = " - ".join([f"z{i}"] + [f"L{k}{i} * a{k}" for k in range(i + 1, n)])
-        checks.append(f"a{i} = ({acc}) / L{i}{i}")
-    speeds = ", ".join(arguments[n:])
-    accelerations = ", ".join(f"a{i}" for i in range(n))
-    body = f"return [{speeds}, {accelerations}]"
     if n == 1:
         checks = [f"if not {m[(0, 0)]} > 0: raise SingularMassError({coordinates[0]!r}, t, y)"]
         body = f"return [{arguments[1]}, {f[0]} / {m[(0, 0)]}]"
+        return function_source("rhs", arguments, parameters, exprs, body, doc, checks)
+    checks = _cholesky_lines(n, m, coordinates) + _solve_lines(n, f, "a")
+    speeds = ", ".join(arguments[n:])
+    body = f"return [{speeds}, {', '.join(f'a{i}' for i in range(n))}]"
     return function_source("rhs", arguments, parameters, exprs, body, doc, checks)
 
 
@@ -380,8 +399,10 @@ def _solve(mass, forcing, y, n, t, coordinates):
 '''
 
 
-def _jac_source(mass, forcing, q_names, u_names, arguments, parameters, doc):
-    """Pieces of the analytic Jacobian: M, f, dM/dq_k, df/dq, df/du (1 DOF: complete)."""
+def _jac_source(mass, forcing, q_names, u_names, arguments, parameters, doc, coordinates):
+    """The analytic Jacobian ``[[0, I], [da/dq, da/du]]`` with ``da/dq = M^-1 (df/dq -
+    dM/dq a)`` and ``da/du = M^-1 df/du``: scalar code with the unrolled Cholesky factor
+    up to the unrolling limit; beyond it the pieces, assembled with numpy."""
     n = len(q_names)
     if n == 1:
         q, u = q_names[0], u_names[0]
@@ -389,9 +410,32 @@ def _jac_source(mass, forcing, q_names, u_names, arguments, parameters, doc):
                  sp.diff(forcing[0], u)]
         body = "a = {1} / {0}; return [[0.0, 1.0], [({3} - {2} * a) / {0}, {4} / {0}]]"
         return function_source("jac", arguments, parameters, exprs, body, doc)
-    exprs = list(mass) + list(forcing)
+    if n > _UNROLLED_LIMIT:
+        exprs = list(mass) + list(forcing)
+        exprs += [sp.diff(mass[i, j], qk) for qk in q_names for i in range(n) for j in range(n)]
+        exprs += [sp.diff(forcing[i], qk) for i in range(n) for qk in q_names]
+        exprs += [sp.diff(forcing[i], uk) for i in range(n) for uk in u_names]
+        return function_source("jac", arguments, parameters, exprs,
+                               "return [" + "{}, " * len(exprs) + "]", doc)
+    lower = _lower(n)
+    exprs = [mass[i, j] for i, j in lower] + list(forcing)
     exprs += [sp.diff(mass[i, j], qk) for qk in q_names for i in range(n) for j in range(n)]
-    exprs += [sp.diff(forcing[i], qk) for i in range(n) for qk in q_names]
-    exprs += [sp.diff(forcing[i], uk) for i in range(n) for uk in u_names]
-    return function_source("jac", arguments, parameters, exprs,
-                           "return [" + "{}, " * len(exprs) + "]", doc)
+    exprs += [sp.diff(forcing[i], qk) for qk in q_names for i in range(n)]
+    exprs += [sp.diff(forcing[i], uk) for uk in u_names for i in range(n)]
+    name = iter(f"_e{k}" for k in range(len(exprs)))
+    m = {ij: next(name) for ij in lower}
+    f = [next(name) for _ in range(n)]
+    dm = [[[next(name) for _ in range(n)] for _ in range(n)] for _ in range(n)]
+    f_q = [[next(name) for _ in range(n)] for _ in range(n)]       # f_q[k][i] = df_i/dq_k
+    f_u = [[next(name) for _ in range(n)] for _ in range(n)]
+    lines = _cholesky_lines(n, m, coordinates) + _solve_lines(n, f, "a")
+    for k in range(n):
+        column = [" - ".join([f_q[k][i]] + [f"{dm[k][i][j]} * a{j}" for j in range(n)])
+                  for i in range(n)]
+        lines += _solve_lines(n, [f"({c})" for c in column], f"q{k}_")
+        lines += _solve_lines(n, f_u[k], f"u{k}_")
+    rows = [[("1.0" if j == n + i else "0.0") for j in range(2 * n)] for i in range(n)]
+    rows += [[f"q{k}_{i}" for k in range(n)] + [f"u{k}_{i}" for k in range(n)]
+             for i in range(n)]
+    body = "return [" + ", ".join("[" + ", ".join(r) + "]" for r in rows) + "]"
+    return function_source("jac", arguments, parameters, exprs, body, doc, lines)
