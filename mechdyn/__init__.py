@@ -35,6 +35,7 @@ _LAZY = {
                     "periodic"),
     **dict.fromkeys(["steady_running", "flywheel", "SteadyRunning", "Flywheel"],
                     "fluctuation"),
+    "work_precision": "precision", "WorkPrecision": "precision",
 }
 _LAZY_MODULES = {"reduction"}
 
