@@ -3,7 +3,6 @@ elastic scenes, natural frequencies, dynamic loads.
 
 Reference values come from closed forms worked by hand in each test.
 """
-import importlib.util
 import math
 from pathlib import Path
 
@@ -15,10 +14,6 @@ import mechdyn as md
 from mechdyn import reduction as red
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
-needs_simulate = pytest.mark.skipif(importlib.util.find_spec("mechdyn.simulate") is None,
-                                    reason="mechdyn.simulate (issue 3) is not there yet")
-
-
 def model(name):
     return md.load_model(MODELS / f"{name}.py")
 
@@ -211,7 +206,6 @@ def at_rest(*coords):
     return {**{q: 0 for q in coords}, **{md.speed(q): 0 for q in coords}}
 
 
-@needs_simulate
 def test_sudden_moment_on_undamped_two_mass_drive_doubles_the_shaft_moment():
     # Rigid: eps = M / (J1 + J2), the shaft carries J2 eps = M J2 / (J1 + J2). Elastic:
     # J_eff twist'' + k twist = M J2 / (J1 + J2), twist(0) = twist'(0) = 0, so
@@ -233,7 +227,6 @@ def test_sudden_moment_on_undamped_two_mass_drive_doubles_the_shaft_moment():
     np.testing.assert_allclose(shaft[10:] / quasi_static, 0.0, atol=1e-6)
 
 
-@needs_simulate
 def test_stiff_coupling_runs_implicit_and_matches_the_rigid_drive():
     # k = 1e6 N m/rad between 1 and 1e-4 kg m^2 rings at 1e5 rad/s (damped in a few
     # ms by the coupling's damper); the rigid drive accelerates at M / (J1 + J2).
@@ -256,7 +249,6 @@ def test_stiff_coupling_runs_implicit_and_matches_the_rigid_drive():
     assert res.final(md.speed(phi_1)) == pytest.approx(ref.final(md.speed(phi_1)), abs=1e-6)
 
 
-@needs_simulate
 def test_rigid_hoist_braking_while_lowering_follows_the_hand_reduction():
     # Case 1: I_red, and M_red = M_br - m g r_b eta / i (brake against the lowering
     # load), both constant: the drive stops after omega0^2 / (2 eps) and the brake holds.
@@ -274,7 +266,6 @@ def test_rigid_hoist_braking_while_lowering_follows_the_hand_reduction():
                                                                            rel=1e-6)
 
 
-@needs_simulate
 def test_rigid_hoist_lifts_at_the_speed_where_kloss_meets_the_reduced_load():
     # Kloss 2 M_k s s_k / (s^2 + s_k^2) = M_L = m g r_b / (i eta) at the slip
     # s = s_k (M_k / M_L - sqrt((M_k / M_L)^2 - 1)).
@@ -287,7 +278,6 @@ def test_rigid_hoist_lifts_at_the_speed_where_kloss_meets_the_reduced_load():
     assert res.final(md.speed(phi)) == pytest.approx(50 * math.pi * (1 - slip), rel=1e-6)
 
 
-@needs_simulate
 def test_loom_torsion_is_of_the_reported_magnitude():
     # Worked example 8 reports a torsion amplitude of 0.0037 rad; the model's invented
     # values were chosen to give that order. Look at the last five turns (settled).

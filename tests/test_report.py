@@ -97,7 +97,6 @@ def test_a_failed_simulation_still_gives_a_page(tmp_path):
 
 
 def test_the_accuracy_table_on_request(brake):
-    pytest.importorskip("mechdyn.precision")
     page = report(brake.mechanism, brake.scenes["braking"], brake.params, precision=True)
     structure = _parse(page.html)
     assert structure.headings[-1] == "Accuracy" and len(structure.images) == 2
