@@ -336,31 +336,45 @@ def _element_output(eqs, scene, name, elements):
 
 
 def _cholesky_lines(n, m, coordinates):
-    """Source lines factoring ``M = L L'`` (``m[(i, j)]``: names of the lower entries);
-    a pivot that is not positive raises SingularMassError naming its coordinate."""
-    lines = []
+    """Source lines factoring ``M = L L'`` (``m[(i, j)]``: names of the lower entries,
+    ``None`` where the entry is structurally zero); a pivot that is not positive raises
+    SingularMassError naming its coordinate. Returns the lines and the set of entries of
+    ``L`` that are structurally zero (a diagonal mass matrix costs one division each)."""
+    lines, zero = [], set()
     for i in range(n):
         for j in range(i):
-            acc = " - ".join([m[(i, j)]] + [f"L{i}{k} * L{j}{k}" for k in range(j)])
+            products = [f"L{i}{k} * L{j}{k}" for k in range(j)
+                        if (i, k) not in zero and (j, k) not in zero]
+            if m[(i, j)] is None and not products:
+                zero.add((i, j))
+                continue
+            acc = " - ".join([m[(i, j)] or "0.0"] + products)
             lines.append(f"L{i}{j} = ({acc}) / L{j}{j}")
-        diag = " - ".join([m[(i, i)]] + [f"L{i}{k} * L{i}{k}" for k in range(i)])
-        lines.append(f"L{i}{i} = {diag}")
+        products = [f"L{i}{k} * L{i}{k}" for k in range(i) if (i, k) not in zero]
+        lines.append(f"L{i}{i} = {' - '.join([m[(i, i)] or '0.0'] + products)}")
         lines.append(f"if not L{i}{i} > 0: raise SingularMassError({coordinates[i]!r}, t, y)")
         lines.append(f"L{i}{i} = sqrt(L{i}{i})")
-    return lines
+    return lines, zero
 
 
-def _solve_lines(n, rhs, out):
+def _solve_lines(n, rhs, out, zero):
     """Source lines solving ``L L' out = rhs`` with the factor of :func:`_cholesky_lines`
     (``rhs``: n expressions; ``out``: the prefix of the n result names)."""
     lines = []
     for i in range(n):
-        acc = " - ".join([rhs[i]] + [f"L{i}{k} * {out}z{k}" for k in range(i)])
-        lines.append(f"{out}z{i} = ({acc}) / L{i}{i}")
+        terms = [f"L{i}{k} * {out}z{k}" for k in range(i) if (i, k) not in zero]
+        lines.append(f"{out}z{i} = ({' - '.join([rhs[i]] + terms)}) / L{i}{i}")
     for i in reversed(range(n)):
-        acc = " - ".join([f"{out}z{i}"] + [f"L{k}{i} * {out}{k}" for k in range(i + 1, n)])
-        lines.append(f"{out}{i} = ({acc}) / L{i}{i}")
+        terms = [f"L{k}{i} * {out}{k}" for k in range(i + 1, n) if (k, i) not in zero]
+        lines.append(f"{out}{i} = ({' - '.join([f'{out}z{i}'] + terms)}) / L{i}{i}")
     return lines
+
+
+def _lower_names(mass, names):
+    """Names of the lower entries of ``mass`` (``None`` for structural zeros), consuming
+    ``names`` only for the entries that are computed."""
+    n = mass.shape[0]
+    return {(i, j): (None if mass[i, j] == 0 else next(names)) for i, j in _lower(n)}
 
 
 def _lower(n):
@@ -374,15 +388,16 @@ def _rhs_source(mass, forcing, n, arguments, parameters, coordinates, doc):
         body = ("return _solve([" + "{}, " * (n * n) + "], [" + "{}, " * n + "], y, "
                 f"{n}, t, {coordinates!r})")
         return function_source("rhs", arguments, parameters, exprs, body, doc) + _NUMPY_SOLVE
-    lower = _lower(n)
-    exprs = [mass[i, j] for i, j in lower] + list(forcing)
-    m = {ij: f"_e{k}" for k, ij in enumerate(lower)}
-    f = [f"_e{len(lower) + i}" for i in range(n)]
+    names = iter(f"_e{k}" for k in range(n * n + n))
+    m = _lower_names(mass, names)
+    exprs = [mass[i, j] for (i, j), name in m.items() if name is not None] + list(forcing)
+    f = [next(names) for _ in range(n)]
     if n == 1:
         checks = [f"if not {m[(0, 0)]} > 0: raise SingularMassError({coordinates[0]!r}, t, y)"]
         body = f"return [{arguments[1]}, {f[0]} / {m[(0, 0)]}]"
         return function_source("rhs", arguments, parameters, exprs, body, doc, checks)
-    checks = _cholesky_lines(n, m, coordinates) + _solve_lines(n, f, "a")
+    checks, zero = _cholesky_lines(n, m, coordinates)
+    checks += _solve_lines(n, f, "a", zero)
     speeds = ", ".join(arguments[n:])
     body = f"return [{speeds}, {', '.join(f'a{i}' for i in range(n))}]"
     return function_source("rhs", arguments, parameters, exprs, body, doc, checks)
@@ -417,23 +432,28 @@ def _jac_source(mass, forcing, q_names, u_names, arguments, parameters, doc, coo
         exprs += [sp.diff(forcing[i], uk) for i in range(n) for uk in u_names]
         return function_source("jac", arguments, parameters, exprs,
                                "return [" + "{}, " * len(exprs) + "]", doc)
-    lower = _lower(n)
-    exprs = [mass[i, j] for i, j in lower] + list(forcing)
-    exprs += [sp.diff(mass[i, j], qk) for qk in q_names for i in range(n) for j in range(n)]
-    exprs += [sp.diff(forcing[i], qk) for qk in q_names for i in range(n)]
-    exprs += [sp.diff(forcing[i], uk) for uk in u_names for i in range(n)]
-    name = iter(f"_e{k}" for k in range(len(exprs)))
-    m = {ij: next(name) for ij in lower}
-    f = [next(name) for _ in range(n)]
-    dm = [[[next(name) for _ in range(n)] for _ in range(n)] for _ in range(n)]
-    f_q = [[next(name) for _ in range(n)] for _ in range(n)]       # f_q[k][i] = df_i/dq_k
-    f_u = [[next(name) for _ in range(n)] for _ in range(n)]
-    lines = _cholesky_lines(n, m, coordinates) + _solve_lines(n, f, "a")
+    names = iter(f"_e{k}" for k in range(2 * n ** 3 + 4 * n * n))
+    m = _lower_names(mass, names)
+    exprs = [mass[i, j] for (i, j), name in m.items() if name is not None] + list(forcing)
+    f = [next(names) for _ in range(n)]
+    dm, f_q, f_u = [], [], []                      # f_q[k][i] = df_i/dq_k
+    for qk in q_names:
+        block = [[sp.diff(mass[i, j], qk) for j in range(n)] for i in range(n)]
+        dm.append([[None if e == 0 else next(names) for e in row] for row in block])
+        exprs += [e for row in block for e in row if e != 0]
+    for derivatives, variables in ((f_q, q_names), (f_u, u_names)):
+        for v in variables:
+            column = [sp.diff(forcing[i], v) for i in range(n)]
+            derivatives.append([None if e == 0 else next(names) for e in column])
+            exprs += [e for e in column if e != 0]
+    lines, zero = _cholesky_lines(n, m, coordinates)
+    lines += _solve_lines(n, f, "a", zero)
     for k in range(n):
-        column = [" - ".join([f_q[k][i]] + [f"{dm[k][i][j]} * a{j}" for j in range(n)])
+        column = [" - ".join([f_q[k][i] or "0.0"] + [f"{dm[k][i][j]} * a{j}" for j in range(n)
+                                                      if dm[k][i][j] is not None])
                   for i in range(n)]
-        lines += _solve_lines(n, [f"({c})" for c in column], f"q{k}_")
-        lines += _solve_lines(n, f_u[k], f"u{k}_")
+        lines += _solve_lines(n, [f"({c})" for c in column], f"q{k}_", zero)
+        lines += _solve_lines(n, [f_u[k][i] or "0.0" for i in range(n)], f"u{k}_", zero)
     rows = [[("1.0" if j == n + i else "0.0") for j in range(2 * n)] for i in range(n)]
     rows += [[f"q{k}_{i}" for k in range(n)] + [f"u{k}_{i}" for k in range(n)]
              for i in range(n)]

@@ -263,18 +263,34 @@ def derive(mechanism, element_names=None, rigid=()) -> Equations:
 
 
 def _lagrange(kinetic, q, u):
-    """Mass matrix and velocity-dependent inertia forcing from the kinetic energy."""
+    """Mass matrix and velocity-dependent inertia forcing from the kinetic energy.
+
+    With ``T = u'M u/2 + b'u + T0`` (``b``, ``T0`` nonzero only for imposed motions):
+    ``f_i = -sum_jk G_ijk u_j u_k - sum_j dM_ij/dt u_j + sum_k (db_k/dq_i - db_i/dq_k) u_k
+    - db_i/dt + dT0/dq_i`` with the Christoffel symbols
+    ``G_ijk = (dM_ij/dq_k + dM_ik/dq_j - dM_jk/dq_i) / 2``: the textbook ``-I'/2 omega^2``
+    for one coordinate, every derivative of ``M`` taken once.
+    """
     n = len(q)
+    at_rest = {ui: sp.S.Zero for ui in u}
     momenta = [_diff(kinetic, ui) for ui in u]
     mass = sp.Matrix(n, n, lambda i, j: _diff(momenta[i], u[j]))
+    b = [m.xreplace(at_rest) for m in momenta]
+    base = kinetic.xreplace(at_rest)
+    slopes = {(i, j, k): _diff(mass[i, j], q[k])
+              for i in range(n) for j in range(n) for k in range(n)}
     inertial = sp.zeros(n, 1)
     for i in range(n):
-        term = _diff(kinetic, q[i]) - _diff(momenta[i], t)
-        for k in range(n):
-            derivative = _diff(momenta[i], q[k])
-            if derivative != 0:
-                term -= derivative * u[k]
-        inertial[i] = term
+        terms = []
+        for j in range(n):
+            for k in range(j, n):
+                christoffel = (slopes[i, j, k] + slopes[i, k, j] - slopes[j, k, i]) / 2
+                if christoffel != 0:
+                    terms.append(-christoffel * u[j] * u[k] * (1 if j == k else 2))
+            terms.append(-_diff(mass[i, j], t) * u[j])
+            terms.append((_diff(b[j], q[i]) - _diff(b[i], q[j])) * u[j])
+        terms += [-_diff(b[i], t), _diff(base, q[i])]
+        inertial[i] = sp.Add(*terms)
     return mass, inertial
 
 
