@@ -107,7 +107,7 @@ class SteadyRunning:
 
     def plot(self, path=None):
         """omega(phi) over the cycle with its mean, maximum and minimum."""
-        from .plotting import pyplot
+        from .plotting import finish, pyplot
         plt = pyplot()
         fig, ax = plt.subplots(figsize=(8, 3.6))
         ax.plot(self.phi, self.omega, label="omega(phi)")
@@ -120,11 +120,7 @@ class SteadyRunning:
         ax.set_title(f"{self.name}: delta = {self.delta:.4g}")
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=8)
-        fig.tight_layout()
-        if path is not None:
-            fig.savefig(path, dpi=110)
-            plt.close(fig)
-        return fig
+        return finish(fig, path)
 
 
 def _check(mechanism, scene):

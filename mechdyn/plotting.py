@@ -10,7 +10,7 @@ import numpy as np
 
 from .errors import MechdynError
 
-__all__ = ["plot_result", "plot_sweep", "pyplot", "dense_series"]
+__all__ = ["plot_result", "plot_sweep", "pyplot", "dense_series", "finish"]
 
 
 def pyplot():
@@ -71,8 +71,7 @@ def plot_result(result, path=None, points=400):
     _mark_events(axes, result.events, result.t[0], result.t[-1])
     axes[-1].set_xlabel("time t [s]")
     fig.suptitle(f"{result.mechanism_name} — {result.scene.name} ({result.reason})")
-    fig.tight_layout()
-    return _finish(plt, fig, path)
+    return finish(fig, path)
 
 
 def _groups(curves, ratio=20.0):
@@ -139,12 +138,14 @@ def plot_sweep(sweep, y, path=None):
     ax.grid(True, alpha=0.3)
     if ax.get_legend_handles_labels()[1]:
         ax.legend(fontsize=8)
+    return finish(fig, path)
+
+
+def finish(fig, path):
+    """Lay out ``fig``; save it to ``path`` (suffix picks PNG, SVG, PDF) and close it, or
+    return it open when there is no path (Jupyter)."""
     fig.tight_layout()
-    return _finish(plt, fig, path)
-
-
-def _finish(plt, fig, path):
     if path is not None:
         fig.savefig(path, dpi=110)
-        plt.close(fig)
+        pyplot().close(fig)
     return fig

@@ -146,7 +146,7 @@ class WorkPrecision:
         """Log-log error (:attr:`Row.error`) against run time, one labelled curve per
         method, points marked by rtol; the reference agreement as a dashed line. Saves
         to ``path`` if given and returns the figure."""
-        from .plotting import pyplot
+        from .plotting import finish, pyplot
         plt = pyplot()
         fig, ax = plt.subplots(figsize=(7, 5))
         for method in dict.fromkeys(r.method for r in self.rows):
@@ -172,11 +172,7 @@ class WorkPrecision:
                      f"reference: {self.reference.kind}", fontsize=10)
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)
-        fig.tight_layout()
-        if path is not None:
-            fig.savefig(path, dpi=110)
-            plt.close(fig)
-        return fig
+        return finish(fig, path)
 
 
 def _atol_text(atol):
