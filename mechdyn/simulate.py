@@ -67,16 +67,18 @@ def _by_name(params):
 
 
 def _check_links(mechanism, params):
-    values = _by_name(params)
+    """Refuse parameter values that make a link's mass or inertia negative."""
+    values = {name: sp.Float(value) for name, value in _by_name(params).items()
+              if isinstance(value, (int, float))}
     for link in mechanism.elements.values():
         if not isinstance(link, Link):
             continue
         for attribute in ("m", "J"):
             expr = getattr(link, attribute)
             if expr.is_number:
-                continue
-            subs = {s: values[s.name] for s in expr.free_symbols if s.name in values}
-            value = expr.subs(subs)
+                continue                     # numbers were checked when declared
+            value = expr.xreplace({s: values[s.name] for s in expr.free_symbols
+                                   if s.name in values})
             if value.is_number and value < 0:
                 raise ParameterError(f"link {link.name!r}: {attribute} = {expr} = {value} is "
                                      "negative; masses and inertias must not be negative")
