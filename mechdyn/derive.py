@@ -277,20 +277,26 @@ def _lagrange(kinetic, q, u):
     mass = sp.Matrix(n, n, lambda i, j: _diff(momenta[i], u[j]))
     b = [m.xreplace(at_rest) for m in momenta]
     base = kinetic.xreplace(at_rest)
+    # Only entries of M that hold q_k have a slope along it (a chain's M holds none).
     slopes = {(i, j, k): _diff(mass[i, j], q[k])
-              for i in range(n) for j in range(n) for k in range(n)}
+              for i in range(n) for j in range(n) if mass[i, j].free_symbols
+              for k in range(n) if q[k] in mass[i, j].free_symbols}
+    zero = sp.S.Zero
     inertial = sp.zeros(n, 1)
     for i in range(n):
         terms = []
         for j in range(n):
             for k in range(j, n):
-                christoffel = (slopes[i, j, k] + slopes[i, k, j] - slopes[j, k, i]) / 2
-                if christoffel != 0:
-                    terms.append(-christoffel * u[j] * u[k] * (1 if j == k else 2))
+                parts = (slopes.get((i, j, k), zero), slopes.get((i, k, j), zero),
+                         slopes.get((j, k, i), zero))
+                if all(part is zero for part in parts):
+                    continue
+                christoffel = (parts[0] + parts[1] - parts[2]) / 2
+                terms.append(-christoffel * u[j] * u[k] * (1 if j == k else 2))
             terms.append(-_diff(mass[i, j], t) * u[j])
             terms.append((_diff(b[j], q[i]) - _diff(b[i], q[j])) * u[j])
         terms += [-_diff(b[i], t), _diff(base, q[i])]
-        inertial[i] = sp.Add(*terms)
+        inertial[i] = sp.Add(*[term for term in terms if term is not zero])
     return mass, inertial
 
 
