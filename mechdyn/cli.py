@@ -42,6 +42,21 @@ def _solution(model, scene, fmt):
     return solution.latex() if fmt == "latex" else str(solution)
 
 
+def _scene_inputs(args):
+    """The model file, the scene and the parameters (defaults with ``--param``) a
+    scene-running command names."""
+    from .model_file import load_model
+    model = load_model(args.model)
+    return model, model.scene(args.scene), _params(model, args.param)
+
+
+def _plot(figure_maker, path):
+    """Draw to ``path`` (if one was asked for) and say so."""
+    if path:
+        figure_maker.plot(path)
+        print(f"wrote {path}")
+
+
 def _params(model, assignments):
     """The model's default parameters overridden by ``name=value`` texts."""
     from .parse import assignment
@@ -53,11 +68,9 @@ def _params(model, assignments):
 
 
 def _simulate(args):
-    from .model_file import load_model
-    model = load_model(args.model)
-    scene = model.scene(args.scene)
+    model, scene, params = _scene_inputs(args)
     try:
-        result = model.mechanism.simulate(scene, _params(model, args.param))
+        result = model.mechanism.simulate(scene, params)
     except SimulationError as error:
         if error.partial is not None and args.csv:
             error.partial.to_csv(args.csv)
@@ -67,9 +80,7 @@ def _simulate(args):
     if args.csv:
         result.to_csv(args.csv)
         print(f"wrote {args.csv}")
-    if args.plot:
-        result.plot(args.plot)
-        print(f"wrote {args.plot}")
+    _plot(result, args.plot)
     return 0
 
 
@@ -113,11 +124,9 @@ def _add_simulate_command(commands):
 
 
 def _precision(args):
-    from .model_file import load_model
     from .precision import work_precision
-    model = load_model(args.model)
-    table = work_precision(model.mechanism, model.scene(args.scene),
-                           _params(model, args.param), methods=args.methods,
+    model, scene, params = _scene_inputs(args)
+    table = work_precision(model.mechanism, scene, params, methods=args.methods,
                            rtols=args.rtols, repeats=args.repeats)
     print(table)
     if args.target is not None:
@@ -125,9 +134,7 @@ def _precision(args):
         print(f"cheapest meeting {args.target:.1e}: " + (
             f"{best.method} at rtol {best.rtol:.0e} ({best.time * 1e3:.2f} ms, error "
             f"{best.error:.1e})" if best else "none of these runs"))
-    if args.plot:
-        table.plot(args.plot)
-        print(f"wrote {args.plot}")
+    _plot(table, args.plot)
     return 0
 
 
@@ -166,19 +173,14 @@ def _add_precision_command(commands):
 
 def _periodic(args):
     from .fluctuation import applies, steady_running
-    from .model_file import load_model
     from .periodic import periodic_steady_state
-    model = load_model(args.model)
-    scene = model.scene(args.scene)
-    params = _params(model, args.param)
+    model, scene, params = _scene_inputs(args)
     if args.period is None and applies(model.mechanism, scene):
         solution = steady_running(model.mechanism, scene, params, cycle=args.cycle)
     else:
         solution = periodic_steady_state(model.mechanism, scene, params, period=args.period)
     print(solution.summary())
-    if args.plot:
-        solution.plot(args.plot)
-        print(f"wrote {args.plot}")
+    _plot(solution, args.plot)
     return 0
 
 
@@ -245,11 +247,9 @@ def _add_models_command(commands):
 def _report(args):
     from pathlib import Path
 
-    from .model_file import load_model
     from .report import report
-    model = load_model(args.model)
-    scene = model.scene(args.scene)
-    page = report(model.mechanism, scene, _params(model, args.param), precision=args.precision)
+    model, scene, params = _scene_inputs(args)
+    page = report(model.mechanism, scene, params, precision=args.precision)
     out = args.output or f"{Path(args.model).stem}_{args.scene}.html"
     page.write(out)
     print(f"wrote {out}")
@@ -306,11 +306,8 @@ def _grid_axis(model, text):
 def _sweep(args):
     from contextlib import ExitStack
 
-    from .model_file import load_model
     from .sweeps import sweep
-    model = load_model(args.model)
-    scene = model.scene(args.scene)
-    params = _params(model, args.param)
+    model, scene, params = _scene_inputs(args)
     grid = dict(_grid_axis(model, text) for text in args.grid)
     with ExitStack() as stack:
         executor = None

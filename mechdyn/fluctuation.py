@@ -227,8 +227,8 @@ def steady_running(mechanism, scene, params, cycle=2 * math.pi, *,
 
 
 def _start(compiled, mechanism, scene, params, speed_guess):
-    from .simulate import _initial_state
-    y0 = _initial_state(compiled, mechanism, scene, params)
+    from .simulate import initial_state
+    y0 = initial_state(compiled, mechanism, scene, params)
     omega0 = y0[1] if speed_guess is None else float(speed_guess)
     if not omega0 > 0:
         raise PeriodicError(f"scene {scene.name!r}: the first guess of the steady speed is "

@@ -247,9 +247,9 @@ def _is_linear(eqs) -> bool:
 
 def _guess(compiled, mechanism, scene, params) -> np.ndarray:
     """The scene's initial state as the first guess (zeros where it gives none)."""
-    from .simulate import _initial_state
+    from .simulate import initial_state
     try:
-        return _initial_state(compiled, mechanism, scene, params)
+        return initial_state(compiled, mechanism, scene, params)
     except SceneError:
         return np.zeros(len(compiled.state_names))
 

@@ -20,7 +20,7 @@ import sympy as sp
 
 from .errors import MechdynError
 from .stepping import replay
-from .symbols import is_coordinate
+from .symbols import dotted_symbol, is_coordinate
 
 __all__ = ["Result", "Event", "Trajectory"]
 
@@ -154,7 +154,7 @@ class Result:
             if text in self.compiled.output_labels:
                 return ("output", text)
             for i, c in enumerate(self.coordinates):
-                if text == f"{c}ddot" or text == str(sp.Symbol(c)) + "ddot":
+                if text == str(dotted_symbol(c, 2)):
                     return ("acceleration", i)
             raise KeyError(f"{key!r}: not a state ({', '.join(self.state_names)}) or an output "
                            f"({', '.join(self.compiled.output_labels) or 'none requested'})")
@@ -268,7 +268,7 @@ class Result:
         for i, name in enumerate(self.state_names):
             data[name] = self.y[i]
         for i, c in enumerate(self.coordinates):
-            data[str(sp.Symbol(c)) + "ddot"] = self.accelerations[i]
+            data[str(dotted_symbol(c, 2))] = self.accelerations[i]
         data.update(self.outputs)
         return data
 

@@ -18,7 +18,10 @@ from .elements import Link, as_expression
 from .errors import SceneError
 from .symbols import is_coordinate, t
 
-__all__ = ["Scene", "StopCondition", "stopped", "reaches", "selection"]
+__all__ = ["Scene", "StopCondition", "stopped", "reaches", "selection", "DEFAULT_RTOL",
+           "DEFAULT_ATOL"]
+
+DEFAULT_RTOL, DEFAULT_ATOL = 1e-10, 1e-12
 
 
 @dataclass(frozen=True)
@@ -101,8 +104,8 @@ class Scene:
     outputs: tuple = ()
     rigid: tuple = ()
     method: str = "auto"
-    rtol: float = 1e-10
-    atol: float = 1e-12
+    rtol: float = DEFAULT_RTOL
+    atol: float = DEFAULT_ATOL
     t_start: float = 0.0
 
     def __post_init__(self):

@@ -29,10 +29,10 @@ from .compile import SingularMassError, compile_scene
 from .elements import Link
 from .errors import ParameterError, SceneError, SimulationError
 from .result import Event, Result, Trajectory
-from .scene import Scene
+from .scene import DEFAULT_ATOL, Scene
 from .stepping import METHODS, WITH_JACOBIAN, run_steps
 
-__all__ = ["simulate", "choose_method", "METHODS"]
+__all__ = ["simulate", "initial_state", "choose_method", "METHODS"]
 
 _STIFFNESS_LIMIT = 2000.0   # explicit steps forced by stability alone; see choose_method
 _EPS = np.finfo(float).eps
@@ -50,8 +50,8 @@ def simulate(mechanism, scene: Scene, params: dict) -> Result:
     compiled = compile_scene(mechanism, scene)
     p = compiled.parameter_vector(params)
     _check_links(mechanism, params)
-    y0 = _initial_state(compiled, mechanism, scene, params)
-    atol = _atol_vector(compiled, scene)
+    y0 = initial_state(compiled, mechanism, scene, params)
+    atol = _atol_vector(compiled, mechanism, scene)
     method = scene.method
     if method == "auto":
         method = choose_method(compiled, p, y0, scene.t_start, scene.time_limit, scene.rtol)
@@ -84,7 +84,8 @@ def _check_links(mechanism, params):
                                      "negative; masses and inertias must not be negative")
 
 
-def _initial_state(compiled, mechanism, scene, params) -> np.ndarray:
+def initial_state(compiled, mechanism, scene, params) -> np.ndarray:
+    """The scene's initial state vector ``[q..., u...]``, checked and evaluated."""
     n = compiled.dof
     declared = {q.func.__name__ for q in mechanism.coordinates}
     slots = {}
@@ -119,34 +120,30 @@ def _initial_state(compiled, mechanism, scene, params) -> np.ndarray:
     return y0
 
 
-def _initial_slot(key, declared, scene):
+def _initial_slot(key, declared, scene, what="initial value"):
     from .symbols import is_coordinate, t
     if is_coordinate(key) and key.func.__name__ in declared:
         return ("q", key.func.__name__)
     if isinstance(key, sp.Derivative) and is_coordinate(key.expr) and \
             key.variable_count == ((t, 1),) and key.expr.func.__name__ in declared:
         return ("u", key.expr.func.__name__)
-    raise SceneError(f"scene {scene.name!r}: initial value given for {key}, which is not a "
+    raise SceneError(f"scene {scene.name!r}: {what} given for {key}, which is not a "
                      f"declared coordinate or its speed (coordinates: {sorted(declared)})")
 
 
-def _atol_vector(compiled, scene):
+def _atol_vector(compiled, mechanism, scene):
+    """A scalar atol, or the vector of a per-state dict (``"default"`` for the rest)."""
     if not isinstance(scene.atol, dict):
         return float(scene.atol)
-    default = float(scene.atol.get("default", 1e-10))
-    vector = np.full(len(compiled.state_names), default)
+    declared = {q.func.__name__ for q in mechanism.coordinates}
+    vector = np.full(2 * compiled.dof, float(scene.atol.get("default", DEFAULT_ATOL)))
     for key, value in scene.atol.items():
         if key == "default":
             continue
-        name = str(key.func.__name__) if hasattr(key, "func") and not isinstance(
-            key, sp.Derivative) else None
-        if isinstance(key, sp.Derivative):
-            index = compiled.dof + compiled.coordinates.index(key.expr.func.__name__)
-        elif name in compiled.coordinates:
-            index = compiled.coordinates.index(name)
-        else:
-            raise SceneError(f"scene {scene.name!r}: atol for {key}, not a state")
-        vector[index] = float(value)
+        kind, name = _initial_slot(key, declared, scene, "atol")
+        if name in compiled.coordinates:
+            offset = compiled.dof if kind == "u" else 0
+            vector[offset + compiled.coordinates.index(name)] = float(value)
     return vector
 
 

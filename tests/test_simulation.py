@@ -174,3 +174,12 @@ def test_per_state_absolute_tolerances():
     assert res.final(md.speed(phi2)) == pytest.approx(3 + (5.472 * 3 + 24 * 9) / 11.9, rel=1e-9)
     with pytest.raises(md.SceneError, match="atol"):
         md.Scene("bad", initial={}, t_end=1, atol={phi2: -1.0})
+
+
+def test_acceleration_columns_use_the_plain_symbol_names():
+    model = load("rope_hoist")
+    phi2 = model.mechanism.coordinates[0]
+    res = model.mechanism.simulate(model.scenes["startup"], model.params)
+    name = str(md.plain(md.acceleration(phi2)))                 # "phiddot_2"
+    assert name in res.columns()
+    assert np.array_equal(res[name], res[md.acceleration(phi2)])
