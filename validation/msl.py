@@ -180,15 +180,15 @@ def run_example(name: str, try_awaiting: bool = False) -> Outcome:
 
 def table(outcomes) -> str:
     """The printed summary: one row per example, then the counts."""
-    lines = [f"{'example':38} {'signals':>7} {'worst signal':24} {'error':>9} "
+    lines = [f"{'example':46} {'signals':>7} {'worst signal':24} {'error':>9} "
              f"{'at t':>8} {'result':8} {'total s':>7} {'sim s':>6}"]
     for o in outcomes:
         if o.errors:
-            lines.append(f"{o.name:38} {len(o.errors):7d} {o.worst:24} {o.worst_error:9.2e} "
+            lines.append(f"{o.name:46} {len(o.errors):7d} {o.worst:24} {o.worst_error:9.2e} "
                          f"{o.worst_time:8.4g} {o.status:8} {o.total_time:7.2f} "
                          f"{o.simulation_time:6.2f} {o.detail}".rstrip())
         else:
-            lines.append(f"{o.name:38} {'':7} {'':24} {'':9} {'':8} {o.status:8} "
+            lines.append(f"{o.name:46} {'':7} {'':24} {'':9} {'':8} {o.status:8} "
                          f"{'':7} {'':6} {o.detail}".rstrip())
     counts = {s: sum(o.status == s for o in outcomes) for s in
               ("pass", "FAIL", "error", "needs", "no model")}
