@@ -7,7 +7,8 @@ as in ``models/`` (``mechanism``, ``params``, ``scenes``) with a scene ``"refere
 expression of each reference column. A model may set ``needs = "..."`` (the elements
 mechdyn lacks for it; the example is reported as not yet expressible and never run) and
 ``slow = True`` (kept out of the fast test subset). Both are read from the file's text,
-so a model written against an API that does not exist yet is never executed.
+so a model written against an API that does not exist yet is never executed. A model of
+a part of an example (``msl/models/parts/``) is compared on the signals it defines.
 
 Every reference signal is compared at every reference time. The error of a signal is
 ``max |mechdyn - reference| / base`` where ``base`` is the range of the reference signal,
@@ -37,6 +38,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+import sympy as sp
+
+import mechdyn as md
 
 HERE = Path(__file__).resolve().parent / "msl"
 REFERENCE_DIR = HERE / "reference"
@@ -124,9 +128,6 @@ def states_at(result, times) -> np.ndarray:
 def signal_values(model, result, states, times) -> dict:
     """Each reference signal's mechdyn values, from the model's ``signals`` expressions
     (of the coordinates, their speeds, ``md.t`` and the model's parameters)."""
-    import sympy as sp
-
-    import mechdyn as md
     symbols, rows = [md.t], [np.asarray(times, dtype=float)]
     for q in model["mechanism"].coordinates:
         for key in (q, md.speed(q)):
@@ -144,9 +145,12 @@ def signal_values(model, result, states, times) -> dict:
 
 
 # ------------------------------------------------------------------- running
-def run_example(name: str, try_awaiting: bool = False) -> Outcome:
-    """Simulate one example at default settings and compare every reference signal."""
-    path = model_path(name)
+def run_example(name: str, try_awaiting: bool = False, model_file=None) -> Outcome:
+    """Simulate one example at default settings and compare every reference signal.
+
+    ``model_file`` replaces the example's model by one of a part of it (a subsystem):
+    then only the reference signals that model defines are compared."""
+    path = Path(model_file) if model_file else model_path(name)
     if not path.exists():
         return Outcome(name, "no model", detail=f"no model file {path.name}")
     needs = declared(path, "needs")
@@ -156,9 +160,12 @@ def run_example(name: str, try_awaiting: bool = False) -> Outcome:
     try:
         model = runpy.run_path(str(path), run_name="mechdyn_model")
         times, reference = read_reference(name)
+        unknown = sorted(set(model["signals"]) - set(reference))
         missing = sorted(set(reference) - set(model["signals"]))
-        if missing:
-            return Outcome(name, "error", detail=f"signals not modelled: {missing}")
+        if unknown or (missing and not model_file):
+            return Outcome(name, "error", detail=f"signals not in the reference: {unknown}; "
+                           f"reference signals not modelled: {missing}")
+        reference = {signal: reference[signal] for signal in model["signals"]}
         result = model["mechanism"].simulate(model["scenes"]["reference"], model["params"])
         states = states_at(result, times)
         values = signal_values(model, result, states, times)
