@@ -29,8 +29,9 @@ Not yet expressible: static friction above sliding friction (peak 1.001 of
 MassWithStopAndFriction) and the hard stop with velocity reset. The declaration uses the
 proposed ``friction(..., peak=...)`` and ``stop(...)`` (validation/msl/NEEDS.md). The
 ``mass`` subsystem alone is expressible today (plain Coulomb friction with a tabulated
-magnitude; parts/Translational.Friction.mass.py) and shows issue 14 defect 3: it sits stuck at rest, the sine force exceeds the
-holding capacity between two step ends, and the release is missed.
+magnitude; parts/Translational.Friction.mass.py) and shows issue 14 defect 3: it sits
+stuck at rest, the sine force exceeds the holding capacity between two step ends, and
+the release is missed.
 
 Reference signals: mass.s/v, stop1.s/v, stop2.s/v (the centres and their speeds).
 """
