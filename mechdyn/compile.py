@@ -2,9 +2,11 @@
 
 The state vector is ``y = [q_1..q_n, u_1..u_n]`` (coordinates, then speeds); the parameter
 vector ``p`` holds the scene's parameters sorted by name, then one sign per friction
-element (+1, -1 sliding that way, 0 stuck). Every generated function has the signature
-``f(t, y, p)`` and a docstring stating these orders. ``M(q) a = f`` is solved numerically
-(unrolled Cholesky in the generated code), never symbolically.
+element (+1, -1 sliding that way, 0 stuck). The generated functions
+(:mod:`mechdyn.generate`) write into an output vector, ``f(t, y, p, out)``, and carry a
+docstring stating these orders; :class:`CompiledScene` calls them from Python.
+``M(q) a = f`` is solved numerically (unrolled Cholesky in the generated code), never
+symbolically.
 
 A compiled scene is cached in memory and on disk (``$MECHDYN_CACHE``, default
 ``~/.cache/mechdyn``; ``MECHDYN_CACHE=off`` disables the disk), keyed by a hash of the
@@ -33,15 +35,13 @@ import numpy as np
 import sympy as sp
 
 from . import __version__
-from .codegen import compile_source, function_source, safe_symbols
-from .elements import Damper, Friction, Load, Spring
-from .errors import ParameterError, SceneError, SimulationError
+from .codegen import compile_source
+from .errors import ParameterError, SimulationError
+from .generate import generate
 from .scene import selection
-from .symbols import t
 
 __all__ = ["CompiledScene", "compile_scene", "SingularMassError"]
 
-_UNROLLED_LIMIT = 8          # DOF up to which the Cholesky solve is unrolled in code
 _memory_cache: dict = {}
 
 
@@ -60,8 +60,10 @@ class CompiledScene:
 
     Attributes: ``coordinates`` (names), ``state_names``, ``param_names`` (user
     parameters, sorted), ``frictions`` (names), ``frozen`` (per friction: index of the
-    coordinate it fixes when stuck, or -1), ``stop_labels``, ``output_labels``, ``meta``,
-    ``source`` (the generated code), ``key`` (the cache key).
+    coordinate it fixes when stuck, or -1), ``stop_labels``, ``output_labels``,
+    ``event_kinds`` (``("stop" | "rate" | "switch", label)`` per entry of ``events``),
+    ``meta``, ``source`` (the generated code), ``key`` (the cache key), ``raw`` (the
+    generated functions by name, each ``f(t, y, p, out)``).
     """
 
     def __init__(self, meta: dict, source: str, key: str = ""):
@@ -74,17 +76,65 @@ class CompiledScene:
         self.frozen = meta["frozen"]
         self.stop_labels = meta["stop_labels"]
         self.output_labels = meta["output_labels"]
-        names = compile_source(source, {"SingularMassError": SingularMassError})
-        self.rhs = names["rhs"]
-        self._jac = names["jac"]
-        self.terms = names["terms"]
-        self.stops = [names[f"stop{i}"] for i in range(len(self.stop_labels))]
-        self.outputs = names["outputs"]
-        self.energy = names["energy"]
+        self.event_kinds = [tuple(kind) for kind in meta["events"]]
+        self.flags = sum(1 for kind, _ in self.event_kinds if kind == "switch")
+        self.layout = {name: (offset, tuple(shape)) for name, offset, shape in meta["terms"]}
+        self._sizes = {"terms": sum(int(np.prod(shape)) for _, shape in self.layout.values()),
+                       "events": len(self.event_kinds), "outputs": len(self.output_labels)}
+        self.raw = compile_source(source, {"spd_solve": _spd_solve,
+                                           "jac_assemble": _jac_assemble})
+
+    # -------------------------------------------------------- Python-level calls
+    def rhs(self, t_value, y, p) -> list:
+        """``dy/dt`` at a state (list of floats); ``p`` from :meth:`parameter_vector`."""
+        out = [0.0] * (2 * self.dof)
+        self.raw["rhs"](t_value, _floats(y), p, out)
+        return out
+
+    def jac(self, t_value, y, p) -> np.ndarray:
+        """Analytic Jacobian d(dy/dt)/dy of :meth:`rhs` (a ``2n x 2n`` array)."""
+        out = np.zeros((2 * self.dof, 2 * self.dof))
+        self.raw["jac"](t_value, _floats(y), p, out)
+        return out
+
+    def terms(self, t_value, y, p) -> dict:
+        """The friction modes' pieces by name: ``mass`` (n x n), ``forcing``,
+        ``friction_gradient`` (k x n), ``friction_bias``, ``friction_magnitude``,
+        ``friction_rate``."""
+        flat = self._call("terms", t_value, y, p)
+        out = {}
+        for name, (offset, shape) in self.layout.items():
+            size = int(np.prod(shape))
+            out[name] = np.array(flat[offset:offset + size]).reshape(shape)
+        n = self.dof
+        mass = np.zeros((n, n))
+        mass[np.tril_indices(n)] = out["mass"]
+        out["mass"] = mass + np.tril(mass, -1).T
+        return out
+
+    def events(self, t_value, y, p) -> list:
+        """Values of the event functions (stops, friction rates, switching functions)."""
+        return self._call("events", t_value, y, p)
+
+    def outputs(self, t_value, y, p) -> list:
+        """Values of the requested outputs."""
+        return self._call("outputs", t_value, y, p)
+
+    def energy(self, t_value, y, p) -> list:
+        """Kinetic and potential energy ``[T, V]``."""
+        out = [0.0, 0.0]
+        self.raw["energy"](t_value, _floats(y), p, out)
+        return out
+
+    def _call(self, name, t_value, y, p) -> list:
+        out = [0.0] * self._sizes[name]
+        self.raw[name](t_value, _floats(y), p, out)
+        return out
 
     # ---------------------------------------------------------------- parameters
     def parameter_vector(self, params: dict, signs=None) -> list:
-        """``p`` from a dict of parameter values (keys: symbols or their names).
+        """``p`` from a dict of parameter values (keys: symbols or their names), with
+        the friction ``signs`` (default 0) and every branch unlocked.
 
         All missing parameters are named in one error; NaN or infinite values too.
         """
@@ -107,33 +157,53 @@ class CompiledScene:
         if bad:
             raise ParameterError(f"parameter values must be finite: {', '.join(bad)}")
         signs = [0.0] * len(self.frictions) if signs is None else list(signs)
-        return values + signs
+        return values + signs + [0.0] * self.flags
 
-    # ------------------------------------------------------------------ Jacobian
-    def jac(self, t_value, y, p):
-        """Analytic Jacobian d(dy/dt)/dy of :meth:`rhs` (a ``2n x 2n`` array)."""
-        n = self.dof
-        if n <= _UNROLLED_LIMIT:
-            return np.array(self._jac(t_value, y, p), dtype=float)
-        flat = self._jac(t_value, y, p)
-        mass = np.array(flat[:n * n]).reshape(n, n)
-        forcing = np.array(flat[n * n:n * n + n])
-        offset = n * n + n
-        mass_derivatives = np.array(flat[offset:offset + n ** 3]).reshape(n, n, n)
-        offset += n ** 3
-        f_q = np.array(flat[offset:offset + n * n]).reshape(n, n)
-        f_u = np.array(flat[offset + n * n:]).reshape(n, n)
-        acceleration = np.linalg.solve(mass, forcing)
-        a_q = f_q - np.einsum("kij,j->ik", mass_derivatives, acceleration)
-        blocks = np.linalg.solve(mass, np.hstack([a_q, f_u]))
-        out = np.zeros((2 * n, 2 * n))
-        out[:n, n:] = np.eye(n)
-        out[n:, :] = blocks
-        return out
+    def __getstate__(self):
+        """Pickled as its metadata and source (sweep workers, results), compiled again
+        when unpickled."""
+        return {"meta": self.meta, "source": self.source, "key": self.key}
+
+    def __setstate__(self, state):
+        self.__init__(state["meta"], state["source"], state["key"])
 
     def __repr__(self):
         return (f"CompiledScene(states {self.state_names}, parameters {self.param_names}, "
                 f"frictions {self.frictions})")
+
+
+def _floats(y):
+    """The state as a list of Python floats (2-3x faster arithmetic than numpy scalars)."""
+    return y.tolist() if type(y) is np.ndarray else y
+
+
+def _spd_solve(mass, forcing, n, out, offset):
+    """``out[offset:offset + n] = M^-1 f`` for large mass matrices (NaN if singular)."""
+    try:
+        a = np.linalg.solve(np.reshape(mass, (n, n)), forcing)
+    except np.linalg.LinAlgError:
+        a = np.full(n, np.nan)
+    for i in range(n):
+        out[offset + i] = float(a[i])
+
+
+def _jac_assemble(flat, n, out):
+    """The Jacobian of a large system from ``M``, ``f``, ``dM/dq_k`` and ``df/d(q, u)``."""
+    flat = np.asarray(flat, dtype=float)
+    mass = flat[:n * n].reshape(n, n)
+    forcing = flat[n * n:n * n + n]
+    offset = n * n + n
+    mass_derivatives = flat[offset:offset + n ** 3].reshape(n, n, n)
+    derivatives = flat[offset + n ** 3:].reshape(2 * n, n)      # [variable, equation]
+    try:
+        acceleration = np.linalg.solve(mass, forcing)
+        a_q = derivatives[:n].T - np.einsum("kij,j->ik", mass_derivatives, acceleration)
+        blocks = np.linalg.solve(mass, np.hstack([a_q, derivatives[n:].T]))
+    except np.linalg.LinAlgError:
+        blocks = np.full((n, 2 * n), np.nan)
+    out[:, :] = 0.0
+    out[:n, n:] = np.eye(n)
+    out[n:, :] = blocks
 
 
 # ------------------------------------------------------------------------- caching
@@ -151,7 +221,8 @@ def _generator_hash() -> str:
     """A hash of the modules that shape generated code, so editing them voids the cache."""
     here = Path(__file__).parent
     digest = hashlib.sha256()
-    for module in ("derive.py", "codegen.py", "compile.py", "elements.py", "symbols.py"):
+    for module in ("derive.py", "codegen.py", "generate.py", "compile.py", "elements.py",
+                   "symbols.py"):
         digest.update((here / module).read_bytes())
     return digest.hexdigest()[:16]
 
@@ -205,257 +276,3 @@ def _store(path: Path, data: dict):
         temporary.replace(path)
     except OSError:
         pass                         # a read-only home only costs the warm start
-
-
-# ---------------------------------------------------------------------- generation
-def generate(eqs, scene, elements) -> tuple:
-    """Metadata and generated source for the equations ``eqs`` of ``scene``
-    (``elements``: the mechanism's elements by name, for outputs)."""
-    n = eqs.dof
-    frictions = eqs.frictions
-    outputs = _outputs(eqs, scene, elements)
-    stops = [] if scene is None else [
-        (repr(c), eqs.to_plain(c.expression - c.value)) for c in scene.until]
-    signs = safe_symbols("s", len(frictions))
-    forcing = eqs.smooth_forcing
-    for sign, fr in zip(signs, frictions):
-        forcing = forcing - sign * fr.magnitude * fr.gradient
-    output_exprs = [e for _, e in outputs]
-    output_exprs = [_friction_signed(e, eqs, signs) for e in output_exprs]
-    everything = [eqs.mass_matrix, forcing, eqs.kinetic_energy, eqs.potential_energy]
-    everything += [fr.magnitude for fr in frictions] + [e for _, e in stops] + output_exprs
-    known = set(eqs.q) | set(eqs.u) | {t} | set(signs)
-    params = sorted(set().union(*(sp.sympify(e).free_symbols for e in everything)) - known,
-                    key=lambda s: s.name)
-    q_names, u_names = safe_symbols("q", n), safe_symbols("u", n)
-    p_names = safe_symbols("p", len(params))
-    rename = dict(zip(eqs.q, q_names)) | dict(zip(eqs.u, u_names)) | dict(zip(params, p_names))
-    rename[t] = sp.Symbol("t")
-
-    def r(expr):
-        return sp.sympify(expr).xreplace(rename)
-
-    coordinates = [str(q) for q in eqs.q]
-    state_names = coordinates + [str(u) for u in eqs.u]
-    arguments = [str(s) for s in q_names + u_names]
-    parameters = [str(s) for s in p_names + signs]
-    doc = (f"y = [{', '.join(state_names)}]; "
-           f"p = [{', '.join([s.name for s in params] + [f'sign of {fr.name}' for fr in frictions])}]")
-    mass = eqs.mass_matrix.xreplace(rename)
-    forcing = forcing.xreplace(rename)
-    sources = [_rhs_source(mass, forcing, n, arguments, parameters, coordinates, doc),
-               _jac_source(mass, forcing, q_names, u_names, arguments, parameters, doc,
-                           coordinates)]
-    grads = [r(g) for fr in frictions for g in fr.gradient]
-    term_exprs = list(mass) + list(forcing) + grads + [r(fr.bias) for fr in frictions] \
-        + [r(fr.magnitude) for fr in frictions] + [r(fr.rate) for fr in frictions]
-    sources.append(function_source("terms", arguments, parameters, term_exprs,
-                                   "return [" + "{}, " * len(term_exprs) + "]", doc))
-    for i, (_, expr) in enumerate(stops):
-        sources.append(function_source(f"stop{i}", arguments, parameters, [r(expr)],
-                                       "return {0}", doc))
-    sources.append(function_source("outputs", arguments, parameters,
-                                   [r(e) for e in output_exprs],
-                                   "return [" + "{}, " * len(output_exprs) + "]", doc))
-    sources.append(function_source("energy", arguments, parameters,
-                                   [r(eqs.kinetic_energy), r(eqs.potential_energy)],
-                                   "return [{0}, {1}]", doc))
-    meta = {
-        "coordinates": coordinates,
-        "state_names": state_names,
-        "param_names": [s.name for s in params],
-        "frictions": [fr.name for fr in frictions],
-        "frozen": [_frozen_index(fr) for fr in frictions],
-        "stop_labels": [label for label, _ in stops],
-        "output_labels": [label for label, _ in outputs],
-        "eliminated": {c.func.__name__: str(e) for c, e in eqs.eliminated.items()},
-        "elements": list(eqs.elements), "excluded": list(eqs.excluded),
-        "rigid": list(eqs.rigid),
-        "time_functions": [c.func.__name__ for c in eqs.coordinates],
-    }
-    return meta, "\n".join(sources)
-
-
-def _frozen_index(friction) -> int:
-    """The coordinate a stuck friction fixes, when its gradient is one constant entry."""
-    nonzero = [i for i, g in enumerate(friction.gradient) if g != 0]
-    if len(nonzero) == 1 and friction.gradient[nonzero[0]].is_number:
-        return nonzero[0]
-    return -1
-
-
-def _friction_signed(expr, eqs, signs):
-    """Replace ``sign(rate)`` of each friction by its run-time sign parameter."""
-    return sp.sympify(expr).xreplace({sp.sign(fr.rate): s for fr, s in zip(eqs.frictions, signs)})
-
-
-def _outputs(eqs, scene, elements) -> list:
-    """``(label, plain expression)`` for each requested output."""
-    if scene is None:
-        return []
-    result = []
-    for item in scene.outputs:
-        if isinstance(item, str):
-            label = item
-            if item.startswith("power:"):
-                name = item[len("power:"):]
-                if name not in eqs.powers:
-                    raise SceneError(f"scene {scene.name!r}: output {item!r}: no load "
-                                     f"{name!r} in the scene (loads: {sorted(eqs.powers)})")
-                result.append((label, eqs.powers[name]))
-                continue
-            result.append((label, _element_output(eqs, scene, item, elements)))
-        else:
-            expr = sp.sympify(item) if isinstance(item, sp.Basic) else None
-            if expr is None:
-                raise SceneError(f"scene {scene.name!r}: output {item!r} is neither an element "
-                                 "name, 'power:NAME', nor a sympy expression")
-            result.append((str(item), eqs.to_plain(expr)))
-    return result
-
-
-def _element_output(eqs, scene, name, elements):
-    element = elements.get(name) if name in eqs.elements else None
-    if element is None:
-        raise SceneError(f"scene {scene.name!r}: output {name!r} is not an element of the "
-                         f"scene (elements: {list(eqs.elements)})")
-    if isinstance(element, Spring):
-        return eqs.to_plain(element.k * element.stretch)
-    if isinstance(element, Damper):
-        stretch = eqs.to_plain(element.stretch)
-        rate = sum((sp.diff(stretch, q) * u for q, u in zip(eqs.q, eqs.u)), sp.S.Zero) \
-            + sp.diff(stretch, t)
-        return eqs.to_plain(element.c) * rate
-    if isinstance(element, Load):
-        return eqs.to_plain(element.value)
-    if isinstance(element, Friction):
-        fr = next(f for f in eqs.frictions if f.name == name)
-        return -fr.magnitude * sp.sign(fr.rate)
-    raise SceneError(f"scene {scene.name!r}: output {name!r}: a {type(element).__name__.lower()}"
-                     " has no single force to record; ask for an expression instead")
-
-
-def _cholesky_lines(n, m, coordinates):
-    """Source lines factoring ``M = L L'`` (``m[(i, j)]``: names of the lower entries,
-    ``None`` where the entry is structurally zero); a pivot that is not positive raises
-    SingularMassError naming its coordinate. Returns the lines and the set of entries of
-    ``L`` that are structurally zero (a diagonal mass matrix costs one division each)."""
-    lines, zero = [], set()
-    for i in range(n):
-        for j in range(i):
-            products = [f"L{i}{k} * L{j}{k}" for k in range(j)
-                        if (i, k) not in zero and (j, k) not in zero]
-            if m[(i, j)] is None and not products:
-                zero.add((i, j))
-                continue
-            acc = " - ".join([m[(i, j)] or "0.0"] + products)
-            lines.append(f"L{i}{j} = ({acc}) / L{j}{j}")
-        products = [f"L{i}{k} * L{i}{k}" for k in range(i) if (i, k) not in zero]
-        lines.append(f"L{i}{i} = {' - '.join([m[(i, i)] or '0.0'] + products)}")
-        lines.append(f"if not L{i}{i} > 0: raise SingularMassError({coordinates[i]!r}, t, y)")
-        lines.append(f"L{i}{i} = sqrt(L{i}{i})")
-    return lines, zero
-
-
-def _solve_lines(n, rhs, out, zero):
-    """Source lines solving ``L L' out = rhs`` with the factor of :func:`_cholesky_lines`
-    (``rhs``: n expressions; ``out``: the prefix of the n result names)."""
-    lines = []
-    for i in range(n):
-        terms = [f"L{i}{k} * {out}z{k}" for k in range(i) if (i, k) not in zero]
-        lines.append(f"{out}z{i} = ({' - '.join([rhs[i]] + terms)}) / L{i}{i}")
-    for i in reversed(range(n)):
-        terms = [f"L{k}{i} * {out}{k}" for k in range(i + 1, n) if (k, i) not in zero]
-        lines.append(f"{out}{i} = ({' - '.join([f'{out}z{i}'] + terms)}) / L{i}{i}")
-    return lines
-
-
-def _lower_names(mass, names):
-    """Names of the lower entries of ``mass`` (``None`` for structural zeros), consuming
-    ``names`` only for the entries that are computed."""
-    n = mass.shape[0]
-    return {(i, j): (None if mass[i, j] == 0 else next(names)) for i, j in _lower(n)}
-
-
-def _lower(n):
-    return [(i, j) for i in range(n) for j in range(i + 1)]
-
-
-def _rhs_source(mass, forcing, n, arguments, parameters, coordinates, doc):
-    """dy/dt = [u, M^-1 f] with an unrolled Cholesky solve (numpy beyond the limit)."""
-    if n > _UNROLLED_LIMIT:
-        exprs = list(mass) + list(forcing)
-        body = ("return _solve([" + "{}, " * (n * n) + "], [" + "{}, " * n + "], y, "
-                f"{n}, t, {coordinates!r})")
-        return function_source("rhs", arguments, parameters, exprs, body, doc) + _NUMPY_SOLVE
-    names = iter(f"_e{k}" for k in range(n * n + n))
-    m = _lower_names(mass, names)
-    exprs = [mass[i, j] for (i, j), name in m.items() if name is not None] + list(forcing)
-    f = [next(names) for _ in range(n)]
-    if n == 1:
-        checks = [f"if not {m[(0, 0)]} > 0: raise SingularMassError({coordinates[0]!r}, t, y)"]
-        body = f"return [{arguments[1]}, {f[0]} / {m[(0, 0)]}]"
-        return function_source("rhs", arguments, parameters, exprs, body, doc, checks)
-    checks, zero = _cholesky_lines(n, m, coordinates)
-    checks += _solve_lines(n, f, "a", zero)
-    speeds = ", ".join(arguments[n:])
-    body = f"return [{speeds}, {', '.join(f'a{i}' for i in range(n))}]"
-    return function_source("rhs", arguments, parameters, exprs, body, doc, checks)
-
-
-_NUMPY_SOLVE = '''
-def _solve(mass, forcing, y, n, t, coordinates):
-    import numpy
-    try:
-        a = numpy.linalg.solve(numpy.reshape(mass, (n, n)), forcing)
-    except numpy.linalg.LinAlgError:
-        raise SingularMassError(", ".join(coordinates), t, y) from None
-    return list(y[n:]) + list(a)
-'''
-
-
-def _jac_source(mass, forcing, q_names, u_names, arguments, parameters, doc, coordinates):
-    """The analytic Jacobian ``[[0, I], [da/dq, da/du]]`` with ``da/dq = M^-1 (df/dq -
-    dM/dq a)`` and ``da/du = M^-1 df/du``: scalar code with the unrolled Cholesky factor
-    up to the unrolling limit; beyond it the pieces, assembled with numpy."""
-    n = len(q_names)
-    if n == 1:
-        q, u = q_names[0], u_names[0]
-        exprs = [mass[0, 0], forcing[0], sp.diff(mass[0, 0], q), sp.diff(forcing[0], q),
-                 sp.diff(forcing[0], u)]
-        body = "a = {1} / {0}; return [[0.0, 1.0], [({3} - {2} * a) / {0}, {4} / {0}]]"
-        return function_source("jac", arguments, parameters, exprs, body, doc)
-    if n > _UNROLLED_LIMIT:
-        exprs = list(mass) + list(forcing)
-        exprs += [sp.diff(mass[i, j], qk) for qk in q_names for i in range(n) for j in range(n)]
-        exprs += [sp.diff(forcing[i], qk) for i in range(n) for qk in q_names]
-        exprs += [sp.diff(forcing[i], uk) for i in range(n) for uk in u_names]
-        return function_source("jac", arguments, parameters, exprs,
-                               "return [" + "{}, " * len(exprs) + "]", doc)
-    names = iter(f"_e{k}" for k in range(2 * n ** 3 + 4 * n * n))
-    m = _lower_names(mass, names)
-    exprs = [mass[i, j] for (i, j), name in m.items() if name is not None] + list(forcing)
-    f = [next(names) for _ in range(n)]
-    dm, f_q, f_u = [], [], []                      # f_q[k][i] = df_i/dq_k
-    for qk in q_names:
-        block = [[sp.diff(mass[i, j], qk) for j in range(n)] for i in range(n)]
-        dm.append([[None if e == 0 else next(names) for e in row] for row in block])
-        exprs += [e for row in block for e in row if e != 0]
-    for derivatives, variables in ((f_q, q_names), (f_u, u_names)):
-        for v in variables:
-            column = [sp.diff(forcing[i], v) for i in range(n)]
-            derivatives.append([None if e == 0 else next(names) for e in column])
-            exprs += [e for e in column if e != 0]
-    lines, zero = _cholesky_lines(n, m, coordinates)
-    lines += _solve_lines(n, f, "a", zero)
-    for k in range(n):
-        column = [" - ".join([f_q[k][i] or "0.0"] + [f"{dm[k][i][j]} * a{j}" for j in range(n)
-                                                      if dm[k][i][j] is not None])
-                  for i in range(n)]
-        lines += _solve_lines(n, [f"({c})" for c in column], f"q{k}_", zero)
-        lines += _solve_lines(n, [f_u[k][i] or "0.0" for i in range(n)], f"u{k}_", zero)
-    rows = [[("1.0" if j == n + i else "0.0") for j in range(2 * n)] for i in range(n)]
-    rows += [[f"q{k}_{i}" for k in range(n)] + [f"u{k}_{i}" for k in range(n)]
-             for i in range(n)]
-    body = "return [" + ", ".join("[" + ", ".join(r) + "]" for r in rows) + "]"
-    return function_source("jac", arguments, parameters, exprs, body, doc, lines)

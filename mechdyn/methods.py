@@ -1,0 +1,126 @@
+"""Method choice: which integrator a segment takes, when to change it, what to try next.
+
+``method="auto"`` decides from measurements of the problem, never once for all:
+
+- **At the start of every segment** (the run's start and after every event: a friction
+  mode change, a switch of a ``Piecewise``) the eigenvalues of the analytic Jacobian are
+  measured against the run's slowest time scale (:func:`choose_method`): damped fast
+  modes are stiff; undamped fast modes are real oscillations, resolved by the explicit
+  method at tight tolerances and stepped over by the stiff one at loose tolerances.
+- **During a segment** a :class:`StiffnessMonitor` compares ``h rho(J)`` with the
+  explicit method's stability limit every few steps: an explicit method held at 70 % of
+  its limit is switched to the stiff method; a stiff method whose steps stay within
+  reach of the explicit one (``h rho < 1``) for many checks is switched back. The gap
+  between the two thresholds keeps the switches from ping-ponging.
+- **The stiff method is Radau** (L-stable, order 5: lightly damped fast modes, whose
+  eigenvalues lie close to the imaginary axis, defeat the BDF orders 3-5 of LSODA and
+  BDF, measured 77,000-176,000 steps where Radau takes 3,300). Its Newton iteration is
+  fragile at very tight tolerances (501,227 steps on one CPU where another took 550, at
+  rtol 1e-10), so stiff segments run at ``rtol >= STIFF_RTOL_FLOOR``; Radau's order
+  keeps their error well below that (``benchmarks/hard_case_matrix.py``).
+- **A failure is retried** from the last accepted state with the next method of
+  :func:`fallbacks` before anything is reported.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["choose_method", "explicit_for", "STIFF", "StiffnessMonitor", "fallbacks",
+           "STABILITY_LIMIT", "STIFF_RTOL_FLOOR", "segment_tolerances"]
+
+STIFF = "Radau"
+STIFF_RTOL_FLOOR = 1e-8
+_STIFFNESS_LIMIT = 2000.0   # explicit steps forced by stability alone before it is stiff
+# Where the stability region of each explicit method crosses the negative real axis.
+STABILITY_LIMIT = {"DOP853": 6.0, "RK45": 3.3, "RK23": 2.5}
+
+
+def explicit_for(rtol) -> str:
+    """DOP853 at tight tolerances, RK45 at loose ones (fewer stages per step)."""
+    return "DOP853" if rtol < 1e-6 else "RK45"
+
+
+def choose_method(compiled, p, y0, t0, t_limit, rtol) -> tuple:
+    """``(method, why)`` for a segment starting at ``(t0, y0)``: the eigenvalues of the
+    analytic Jacobian there against the slowest time scale of the run.
+
+    - Damped fast modes (large negative real parts): stiff, once stability alone would
+      cost an explicit method more than ``_STIFFNESS_LIMIT`` steps.
+    - Undamped fast modes (large imaginary parts only) are real oscillations: at tight
+      tolerances they must be resolved, which the explicit method does; at rtol >= 1e-6
+      the stiff method steps over them.
+    - Otherwise the explicit method.
+
+    The slow scale is the smallest non-zero eigenvalue magnitude, or the run length when
+    the motion has a rigid-body (zero) mode.
+    """
+    explicit = explicit_for(rtol)
+    try:
+        jacobian = compiled.jac(t0, y0, p)
+    except (ArithmeticError, ValueError):
+        return explicit, "the Jacobian cannot be evaluated at the start"
+    if not np.all(np.isfinite(jacobian)):
+        return explicit, "the Jacobian is not finite at the start"
+    eigenvalues = np.linalg.eigvals(jacobian)
+    magnitude = np.abs(eigenvalues)
+    fastest = magnitude.max(initial=0.0)
+    # A rigid-body mode is a double zero eigenvalue (a Jordan block): eig perturbs it by
+    # about sqrt(eps) * |J|, far above eps, so "zero" is judged near sqrt(eps).
+    nonzero = magnitude[magnitude > max(fastest, 1.0) * 1e-7]
+    slowest = 1.0 / max(t_limit - t0, 1e-300)
+    if len(nonzero) == len(magnitude) and len(nonzero):
+        slowest = nonzero.min()
+    elif len(nonzero):
+        slowest = max(slowest, min(nonzero.min(), 1.0))
+    damped = np.max(-eigenvalues.real, initial=0.0)
+    if damped / slowest > _STIFFNESS_LIMIT:
+        return STIFF, f"damped modes {damped / slowest:.3g} times faster than the motion"
+    if fastest / slowest > _STIFFNESS_LIMIT and rtol >= 1e-6:
+        return STIFF, (f"oscillations {fastest / slowest:.3g} times faster than the motion, "
+                       "below the tolerance")
+    return explicit, "no stiff modes"
+
+
+class StiffnessMonitor:
+    """Whether a segment's method no longer fits the problem: every ``every`` steps
+    ``h rho(J)`` (``rho`` the spectral radius of the Jacobian ``jacobian(t, y)``) is
+    compared with the explicit method's stability limit. For an explicit ``method``:
+    ``count`` checks in a row at 70 % of the limit or more mean the problem is stiff
+    there. For a stiff ``method``: ``relax`` checks in a row with ``h rho < 1`` mean it
+    is not (the explicit method would take such steps)."""
+
+    def __init__(self, method, jacobian, rtol, every=10, count=3, relax=50):
+        self.explicit = method not in (STIFF, "LSODA", "BDF")
+        self.limit = 0.7 * STABILITY_LIMIT[method if self.explicit else explicit_for(rtol)]
+        self.jacobian, self.every = jacobian, every
+        self.needed = count if self.explicit else relax
+        self.steps, self.run, self.last = 0, 0, 0.0
+
+    def __call__(self, t, y, h) -> bool:
+        self.steps += 1
+        if self.steps % self.every:
+            return False
+        try:
+            matrix = self.jacobian(t, y)
+            rho = float(np.max(np.abs(np.linalg.eigvals(matrix))))
+        except (ArithmeticError, ValueError, np.linalg.LinAlgError):
+            return False
+        self.last = h * rho
+        changed = self.last >= self.limit if self.explicit else self.last < 1.0
+        self.run = self.run + 1 if changed else 0
+        return self.run >= self.needed
+
+
+def segment_tolerances(method, rtol, atol) -> tuple:
+    """The tolerances a segment of ``method="auto"`` runs at: the scene's, except that
+    stiff segments keep ``rtol >= STIFF_RTOL_FLOOR`` (``atol`` scaled alike). A method
+    named in the scene runs at the scene's tolerances."""
+    if method != STIFF or rtol >= STIFF_RTOL_FLOOR:
+        return rtol, atol
+    return STIFF_RTOL_FLOOR, np.asarray(atol) * (STIFF_RTOL_FLOOR / rtol)
+
+
+def fallbacks(method, rtol) -> list:
+    """The methods to try, in order, after ``method`` failed at some state."""
+    ladder = [STIFF, "LSODA", "BDF", explicit_for(rtol)]
+    return [m for m in ladder if m != method]

@@ -1,0 +1,170 @@
+"""The integrated motion: segments of steps, each step with its interpolating polynomial.
+
+Every solver's dense output is stored in one form: for the step ``[t_k, t_k + h_k]`` the
+coefficients ``c_0..c_d`` (one row of states each) of ``y(t) = sum_j c_j x^j`` with
+``x = (t - t_k) / h_k``. Evaluating many times is then one ``searchsorted`` and one Horner
+scheme over arrays, whatever the method that made the steps.
+
+A segment is a stretch of integration with one friction mode and one method; at the
+boundary between two segments the state may jump (an impulse that makes a stuck
+friction's sliding speed exactly zero), and the trajectory takes the later segment's value
+there (the right limit).
+
+>>> import numpy as np
+>>> seg = Segment(0.0, [1.0], mode=(), method="demo")
+>>> seg.add(2.0, [5.0], [[1.0], [0.0], [4.0]])       # y = 1 + 4 x^2 on [0, 2]
+>>> Trajectory([seg]).at(np.array([0.0, 1.0, 2.0]))[0].tolist()
+[1.0, 2.0, 5.0]
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .errors import MechdynError
+
+__all__ = ["Segment", "Trajectory"]
+
+
+class Segment:
+    """The steps of one friction mode integrated by one method.
+
+    ``mode`` is the friction mode (signs per friction element); ``method`` the solver's
+    name. Steps are appended with :meth:`add` (one) or :meth:`extend` (arrays of many).
+    """
+
+    def __init__(self, t0, y0, mode, method):
+        self.mode, self.method = mode, method
+        self._t, self._y, self._c = [float(t0)], [np.asarray(y0, dtype=float)], []
+        self._frozen = None
+
+    def add(self, t, y, coefficients):
+        """Append one step ending at ``(t, y)`` with its polynomial coefficients
+        (``(degree + 1, states)``, in ``x = (t - t_start) / h``)."""
+        if t == self._t[-1]:
+            return
+        self._t.append(float(t))
+        self._y.append(np.asarray(y, dtype=float))
+        self._c.append(np.asarray(coefficients, dtype=float))
+        self._frozen = None
+
+    def extend(self, times, states, coefficients):
+        """Append many steps at once: ``times (k,)``, ``states (k, m)``, coefficients
+        ``(k, degree + 1, m)``."""
+        for t, y, c in zip(times, states, coefficients):
+            self.add(t, y, c)
+
+    @property
+    def t_start(self):
+        return self._t[0]
+
+    @property
+    def t_end(self):
+        return self._t[-1]
+
+    @property
+    def y_end(self):
+        return self._y[-1]
+
+    def __len__(self):
+        """The number of steps."""
+        return len(self._c)
+
+    def arrays(self):
+        """``(t, y, c)``: step times ``(k + 1,)``, states ``(k + 1, m)`` and coefficients
+        ``(k, d + 1, m)`` padded with zeros to the largest degree."""
+        if self._frozen is None:
+            m = len(self._y[0])
+            degree = max((len(c) for c in self._c), default=1)
+            coefficients = np.zeros((len(self._c), degree, m))
+            for k, c in enumerate(self._c):
+                coefficients[k, :len(c)] = c
+            self._frozen = (np.array(self._t), np.array(self._y), coefficients)
+        return self._frozen
+
+
+class Trajectory:
+    """The segments of a run, evaluated anywhere by their step polynomials."""
+
+    def __init__(self, segments=()):
+        self.segments: list[Segment] = list(segments)
+        self._stacked = None
+
+    def add(self, segment: Segment) -> Segment:
+        self.segments.append(segment)
+        self._stacked = None
+        return segment
+
+    def changed(self):
+        """Forget the stacked arrays (steps were added to the last segment)."""
+        self._stacked = None
+
+    @property
+    def steps(self) -> int:
+        return sum(len(s) for s in self.segments)
+
+    def points(self):
+        """Times ``(K,)``, states ``(m, K)`` and segment index ``(K,)`` of every step
+        point; a boundary between segments appears once, with the later segment's
+        state."""
+        times, states, owner = [], [], []
+        for index, segment in enumerate(self.segments):
+            t, y, _ = segment.arrays()
+            if times and len(t) and t[0] == times[-1][-1]:
+                times[-1], states[-1], owner[-1] = times[-1][:-1], states[-1][:-1], owner[-1][:-1]
+            times.append(t)
+            states.append(y)
+            owner.append(np.full(len(t), index))
+        if not times:
+            return np.zeros(0), np.zeros((0, 0)), np.zeros(0, dtype=int)
+        return np.concatenate(times), np.concatenate(states).T, np.concatenate(owner)
+
+    def _stack(self):
+        if self._stacked is None:
+            starts, widths, coefficients, owners, finals = [], [], [], [], None
+            degree = max((s.arrays()[2].shape[1] for s in self.segments if len(s)), default=1)
+            for index, segment in enumerate(self.segments):
+                t, y, c = segment.arrays()
+                if not len(c):
+                    continue
+                starts.append(t[:-1])
+                widths.append(np.diff(t))
+                padded = np.zeros((len(c), degree, c.shape[2]))
+                padded[:, :c.shape[1]] = c
+                coefficients.append(padded)
+                owners.append(np.full(len(c), index))
+                finals = (t[-1], y[-1])
+            if not starts:
+                self._stacked = None
+                return None
+            self._stacked = (np.concatenate(starts), np.concatenate(widths),
+                             np.concatenate(coefficients), np.concatenate(owners), finals)
+        return self._stacked
+
+    def at(self, times, with_segments=False):
+        """States at ``times`` (shape ``(m, len(times))``) from the step polynomials, and
+        with ``with_segments`` the index of the segment of each time."""
+        times = np.atleast_1d(np.asarray(times, dtype=float))
+        first = self.segments[0].t_start
+        last = self.segments[-1].t_end
+        slack = 1e-12 * max(1.0, abs(first), abs(last))
+        outside = (times < first - slack) | (times > last + slack)
+        if np.any(outside):
+            bad = times[outside][0]
+            raise MechdynError(f"t = {bad} lies outside the simulated interval "
+                               f"[{first}, {last}]")
+        stacked = self._stack()
+        if stacked is None:                 # no step at all: the run ended where it began
+            state = self.segments[-1].y_end
+            out = np.repeat(state[:, None], len(times), axis=1)
+            owners = np.full(len(times), len(self.segments) - 1)
+            return (out, owners) if with_segments else out
+        starts, widths, coefficients, owners, (t_final, y_final) = stacked
+        k = np.clip(np.searchsorted(starts, times, side="right") - 1, 0, len(starts) - 1)
+        x = np.clip((times - starts[k]) / widths[k], 0.0, 1.0)[:, None]
+        out = coefficients[k, -1]
+        for j in range(coefficients.shape[1] - 2, -1, -1):
+            out = out * x + coefficients[k, j]
+        at_end = times >= t_final
+        out[at_end] = y_final
+        out = out.T
+        return (out, owners[k]) if with_segments else out
