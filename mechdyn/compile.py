@@ -162,7 +162,8 @@ _GENERATOR = _generator_hash()
 def declaration_key(mechanism, scene) -> str:
     """A hash of everything the compiled code depends on."""
     names, rigid = selection(mechanism, scene)
-    parts = [__version__, _GENERATOR, [q.func.__name__ for q in mechanism.coordinates]]
+    parts = [__version__, _GENERATOR, [q.func.__name__ for q in mechanism.coordinates],
+             sorted(mechanism.parameter_units.items())]   # units: checked when derived
     for element in mechanism.elements.values():
         parts.append([type(element).__name__, element.name, list(element.tags),
                       sorted((k, sp.srepr(v)) for k, v in element.expressions().items())])

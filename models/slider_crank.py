@@ -16,7 +16,9 @@ r, L, J_1, m_2, J_2, m_3, M_0, omega_0 = sp.symbols(
 
 rod_run = sp.sqrt(L**2 - r**2 * sp.sin(phi)**2)   # slider travel beyond the crank pin
 
-mechanism = md.Mechanism("Slider-crank", coordinates=[phi])
+mechanism = md.Mechanism("Slider-crank", coordinates=[phi], units={
+    r: "m", L: "m", J_1: "kg*m^2", m_2: "kg", J_2: "kg*m^2", m_3: "kg", M_0: "N*m",
+    omega_0: "rad/s"})
 mechanism.link("crank", J=J_1, angle=phi)
 mechanism.link("rod", m=m_2, J=J_2, x=r * sp.cos(phi) + rod_run / 2, y=r * sp.sin(phi) / 2,
                angle=-sp.asin(r * sp.sin(phi) / L))
