@@ -58,12 +58,18 @@ def _plot(figure_maker, path):
 
 
 def _params(model, assignments):
-    """The model's default parameters overridden by ``name=value`` texts."""
-    from .parse import assignment
+    """The model's default parameters overridden by ``name=value`` texts (a value may
+    carry a unit: ``P=2 kN``, checked against the parameter's declared unit)."""
+    from .parse import named_value
+    from .units import UnitError, to_si
     params = dict(model.params)
     for text in assignments or ():
-        name, value = assignment(text)
-        params[model.param_symbol(name)] = value
+        name, value = named_value(text)
+        symbol = model.param_symbol(name)
+        try:
+            params[symbol] = to_si(value, model.mechanism.parameter_units.get(name))
+        except UnitError as error:
+            raise UnitError(f"--param {name}: {error}") from None
     return params
 
 
@@ -76,11 +82,13 @@ def _simulate(args):
             error.partial.to_csv(args.csv)
             print(f"partial result up to the failure written to {args.csv}", file=sys.stderr)
         raise
-    print(result.summary())
+    print(result.summary(units=args.units))
     if args.csv:
-        result.to_csv(args.csv)
+        result.to_csv(args.csv, sample=args.sample, units=args.units)
         print(f"wrote {args.csv}")
-    _plot(result, args.plot)
+    if args.plot:
+        result.plot(args.plot, sample=args.sample, units=args.units)
+        print(f"wrote {args.plot}")
     return 0
 
 
@@ -112,7 +120,9 @@ def _add_simulate_command(commands):
         epilog="examples:\n"
         "  mechdyn simulate models/shoe_brake.py --scene braking\n"
         "  mechdyn simulate models/shoe_brake.py --scene braking --param P=30 "
-        "--plot brake.png --csv brake.csv\n\n"
+        "--plot brake.png --csv brake.csv\n"
+        "  mechdyn simulate models/motor_startup.py --scene startup --param 'M_L=0.06 kN' "
+        "--units speed=rpm,power=kW --csv run.csv --sample 0.01\n\n"
         "exit status 1 if the integration fails (the partial trajectory still goes to --csv)",
         formatter_class=argparse.RawDescriptionHelpFormatter)
     _model_argument(simulate)
@@ -120,6 +130,8 @@ def _add_simulate_command(commands):
     _param_argument(simulate)
     simulate.add_argument("--plot", metavar="FILE.png", help="save a figure (PNG, SVG, PDF)")
     simulate.add_argument("--csv", metavar="FILE.csv", help="save the trajectory")
+    _units_argument(simulate)
+    _sample_argument(simulate)
     simulate.set_defaults(run=_simulate)
 
 
@@ -398,7 +410,28 @@ def _scene_argument(parser, required=True):
 def _param_argument(parser):
     parser.add_argument("--param", action="append", metavar="NAME=VALUE",
                         help="override a parameter (a number or arithmetic such as 2*pi, "
-                        "never eval'ed); repeatable")
+                        "never eval'ed, SI unless a unit follows: 'P=2 kN', "
+                        "'omega_s=1500 rpm'); repeatable")
+
+
+def _units_argument(parser):
+    parser.add_argument("--units", metavar="KIND=UNIT,...",
+                        help="show results in these units: kinds angle, speed, "
+                        "acceleration, length, velocity, force, moment, power (or a column "
+                        "name), e.g. speed=rpm,power=kW,rope=kN")
+
+
+def _sample_argument(parser):
+    from .parse import number
+
+    def step(text):
+        value = number(text)
+        if not value > 0:
+            raise argparse.ArgumentTypeError(f"{text!r} is not a positive time step")
+        return value
+    parser.add_argument("--sample", type=step, metavar="DT",
+                        help="CSV rows and plot points every DT seconds (from the dense "
+                        "output) instead of the solver's steps")
 
 
 # ------------------------------------------------------------- parser and main

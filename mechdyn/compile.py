@@ -169,7 +169,8 @@ def declaration_key(mechanism, scene) -> str:
                       sorted((k, sp.srepr(v)) for k, v in element.expressions().items())])
     parts += [list(names), [list(r) for r in rigid]]
     if scene is not None:
-        parts.append([sp.srepr(o) if isinstance(o, sp.Basic) else str(o) for o in scene.outputs])
+        parts.append([[label, sp.srepr(o) if isinstance(o, sp.Basic) else str(o)]
+                      for label, o in scene.labelled_outputs()])
         parts.append([[sp.srepr(c.expression), sp.srepr(c.value), c.direction, repr(c)]
                       for c in scene.until])
     return hashlib.sha256(repr(parts).encode()).hexdigest()[:32]
@@ -295,9 +296,8 @@ def _outputs(eqs, scene, elements) -> list:
     if scene is None:
         return []
     result = []
-    for item in scene.outputs:
+    for label, item in scene.labelled_outputs():
         if isinstance(item, str):
-            label = item
             if item.startswith("power:"):
                 name = item[len("power:"):]
                 if name not in eqs.powers:
@@ -311,7 +311,7 @@ def _outputs(eqs, scene, elements) -> list:
             if expr is None:
                 raise SceneError(f"scene {scene.name!r}: output {item!r} is neither an element "
                                  "name, 'power:NAME', nor a sympy expression")
-            result.append((str(item), eqs.to_plain(expr)))
+            result.append((label, eqs.to_plain(expr)))
     return result
 
 

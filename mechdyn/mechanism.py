@@ -225,9 +225,23 @@ class Mechanism:
         return compile_scene(self, scene)
 
     def simulate(self, scene, params=None):
-        """Integrate a :class:`Scene`; returns a :class:`Result`."""
+        """Integrate a :class:`Scene`; returns a :class:`Result` (its ``units``: the SI
+        unit of each coordinate and output)."""
+        from .errors import SimulationError
         from .simulate import simulate
-        return simulate(self, scene, params or {})
+        try:
+            result = simulate(self, scene, params or {})
+        except SimulationError as error:
+            if error.partial is not None:
+                self._label_units(error.partial, scene)
+            raise
+        return self._label_units(result, scene)
+
+    def _label_units(self, result, scene):
+        from .display import output_units
+        result.units.update({label: unit for label, unit in output_units(self, scene).items()
+                             if label not in result.units})
+        return result
 
     # ------------------------------------------------------------------ viewing
     def __repr__(self):
