@@ -274,8 +274,8 @@ def _report(args):
 def _add_report_command(commands):
     report = commands.add_parser(
         "report", help="write one HTML page: derivation, scene, results, plots",
-        description="Write a self-contained HTML page for a scene: the derivation in LaTeX "
-        "(typeset by MathJax when online), the mechanism and its parameters, the scene, "
+        description="Write a self-contained HTML page for a scene: the derivation "
+        "(MathML: no network needed), the mechanism and its parameters, the scene, "
         "the results with events and the default figure; with --precision also the "
         "work-precision table of the integrators.",
         epilog="examples:\n"
