@@ -36,8 +36,10 @@ _LAZY = {
     **dict.fromkeys(["steady_running", "flywheel", "SteadyRunning", "Flywheel"],
                     "fluctuation"),
     "work_precision": "precision", "WorkPrecision": "precision",
+    "characteristic": "characteristic", "Characteristic": "characteristic",
+    "to_si": "units", "UnitError": "units",
 }
-_LAZY_MODULES = {"reduction"}
+_LAZY_MODULES = {"reduction", "units"}
 
 __all__ = [
     "motors", "Mechanism", "Link", "Load", "Spring", "Damper", "Gravity", "Friction",

@@ -397,6 +397,41 @@ def _add_sweep_command(commands):
     sweep.set_defaults(run=_sweep)
 
 
+def _characteristic(args):
+    from .characteristic import characteristic
+    from .model_file import load_model
+    model = load_model(args.model)
+    scene = model.scene(args.scene) if args.scene else None
+    curves = characteristic(model.mechanism, scene, _params(model, args.param),
+                            drive=args.drive)
+    print(curves.summary(args.units))
+    if args.plot:
+        curves.plot(args.plot, units=args.units)
+        print(f"wrote {args.plot}")
+    return EXIT_OK
+
+
+def _add_characteristic_command(commands):
+    command = commands.add_parser(
+        "characteristic", help="motor and load characteristics, operating points, stability",
+        description="Draw the drive's moment M(omega) against the reduced moment of the "
+        "load (the mean over a cycle where it depends on the position) for a one-DOF "
+        "machine, and list the operating points where they balance: stable where "
+        "dM_motor/domega < dM_load/domega.",
+        epilog="examples:\n"
+        "  mechdyn characteristic models/motor_startup.py --scene startup --plot ml.png\n"
+        "  mechdyn characteristic models/press_flywheel.py --scene steady --units speed=rpm "
+        "--plot press.png", formatter_class=argparse.RawDescriptionHelpFormatter)
+    _model_argument(command)
+    _scene_argument(command, required=False)
+    _param_argument(command)
+    command.add_argument("--drive", metavar="NAME", help="the driving load (name or tag; "
+                         "default: the load named or tagged motor)")
+    command.add_argument("--plot", metavar="FILE.png", help="save the characteristics")
+    _units_argument(command)
+    command.set_defaults(run=_characteristic)
+
+
 # ------------------------------------------------------------- shared options
 def _model_argument(parser):
     parser.add_argument("model", help="model file (defines mechanism, params, scenes); "
@@ -472,6 +507,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_report_command(commands)
     _add_sweep_command(commands)
     _add_periodic_command(commands)
+    _add_characteristic_command(commands)
     for command in commands.choices.values():
         command.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
                              help="show the traceback of an error")
