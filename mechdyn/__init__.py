@@ -37,7 +37,7 @@ _LAZY = {
                     "fluctuation"),
     "work_precision": "precision", "WorkPrecision": "precision",
     "characteristic": "characteristic", "Characteristic": "characteristic",
-    "to_si": "units", "UnitError": "units",
+    "to_si": "units", "UnitError": "units", "animate": "animation", "Film": "animation",
 }
 _LAZY_MODULES = {"reduction", "units"}
 

@@ -432,6 +432,39 @@ def _add_characteristic_command(commands):
     command.set_defaults(run=_characteristic)
 
 
+def _animate(args):
+    from .animation import animate
+    model, scene, params = _scene_inputs(args)
+    result = model.mechanism.simulate(scene, params)
+    film = animate(model.mechanism, result, params, args.out, sample=args.sample,
+                   fps=args.fps)
+    print(f"wrote {film.path}: {film.frames} frames, every {film.times[1] - film.times[0]:.4g} "
+          f"s of the motion at {film.fps:g} frames per second" if film.frames > 1 else
+          f"wrote {film.path}: 1 frame")
+    return EXIT_OK
+
+
+def _add_animate_command(commands):
+    command = commands.add_parser(
+        "animate", help="draw the links over the simulated motion into a GIF",
+        description="Simulate a scene and draw its links (their declared points, or the "
+        "centre of mass with a tick along the link's angle) frame by frame into a GIF: "
+        "one frame per --sample seconds of the motion (default 1/fps: real time).",
+        epilog="examples:\n"
+        "  mechdyn animate models/slider_crank.py --scene startup --out crank.gif\n"
+        "  mechdyn animate models/scotch_yoke.py --scene startup --out yoke.gif "
+        "--sample 0.01 --fps 20", formatter_class=argparse.RawDescriptionHelpFormatter)
+    _model_argument(command)
+    _scene_argument(command)
+    _param_argument(command)
+    command.add_argument("--out", metavar="FILE.gif", default="animation.gif",
+                         help="the GIF to write (default animation.gif)")
+    _sample_argument(command)
+    command.add_argument("--fps", type=float, default=25.0,
+                         help="frames per second of the GIF (default 25)")
+    command.set_defaults(run=_animate)
+
+
 # ------------------------------------------------------------- shared options
 def _model_argument(parser):
     parser.add_argument("model", help="model file (defines mechanism, params, scenes); "
@@ -508,6 +541,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_sweep_command(commands)
     _add_periodic_command(commands)
     _add_characteristic_command(commands)
+    _add_animate_command(commands)
     for command in commands.choices.values():
         command.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
                              help="show the traceback of an error")
