@@ -28,6 +28,7 @@ _LAZY = {
     "Classification": "analytic", "Solution": "analytic", "StopPoint": "analytic",
     "Motion": "analytic", "DrivingMoment": "analytic", "AnalyticError": "analytic",
     "natural_frequencies": "modal", "Modes": "modal",
+    "linearize": "linear", "StateSpace": "linear",
     "Result": "result", "Event": "result",
     "sweep": "sweeps", "Sweep": "sweeps",
     **dict.fromkeys(["periodic_steady_state", "floquet", "forcing_period", "Floquet",

@@ -237,6 +237,13 @@ class Mechanism:
             raise
         return self._label_units(result, scene)
 
+    def linearize(self, scene=None, at=None, params=None, inputs=(), outputs=()):
+        """State-space matrices A, B, C, D about an operating point ``at`` (a
+        :class:`~mechdyn.linear.StateSpace`; inputs: parameters, outputs: coordinates,
+        speeds, element names or expressions)."""
+        from .linear import linearize
+        return linearize(self, scene, at, params, inputs, outputs)
+
     def _label_units(self, result, scene):
         from .display import output_units
         result.units.update({label: unit for label, unit in output_units(self, scene).items()
