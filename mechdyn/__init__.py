@@ -37,7 +37,7 @@ _LAZY = {
     **dict.fromkeys(["steady_running", "flywheel", "SteadyRunning", "Flywheel"],
                     "fluctuation"),
     "work_precision": "precision", "WorkPrecision": "precision",
-    "characteristic": "characteristic", "Characteristic": "characteristic",
+    "characteristic": "characteristics", "Characteristic": "characteristics",
     "to_si": "units", "UnitError": "units", "animate": "animation", "Film": "animation",
 }
 _LAZY_MODULES = {"reduction", "units"}

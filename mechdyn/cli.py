@@ -398,7 +398,7 @@ def _add_sweep_command(commands):
 
 
 def _characteristic(args):
-    from .characteristic import characteristic
+    from .characteristics import characteristic
     from .model_file import load_model
     model = load_model(args.model)
     scene = model.scene(args.scene) if args.scene else None
