@@ -33,6 +33,7 @@ from scipy.optimize import minimize_scalar
 
 from .elements import as_expression
 from .errors import MechdynError, ParameterError, SceneError
+from .latex import presentable, readable
 from .symbols import t
 
 __all__ = ["AnalyticError", "Classification", "classify", "StopPoint", "Solution",
@@ -292,48 +293,13 @@ def _shown(value, printer=str):
     """An exact value with its decimal value when it is not a plain number; the decimal
     alone when the exact form is not readable (see :func:`presentable`)."""
     value = sp.sympify(value)
-    if value.is_Float or not value.is_number or (value.is_Rational and _readable(value)):
+    if value.is_Float or not value.is_number or (value.is_Rational and readable(value)):
         return printer(value)
     number = f"{float(value):.12g}"
-    if not _readable(value):
+    if not readable(value):
         return number
     return f"{printer(value)} (= {number})" if printer is str else \
         f"{printer(value)} \\approx {number}"
-
-
-_READABLE_OPS, _READABLE_DIGITS = 16, 6
-
-
-def _readable(number) -> bool:
-    """An exact number a person reads at a glance: few operations, no long integers,
-    nothing imaginary."""
-    return (not number.has(sp.I) and sp.count_ops(number) <= _READABLE_OPS
-            and all(abs(r.p) < 10 ** _READABLE_DIGITS and r.q < 10 ** _READABLE_DIGITS
-                    for r in number.atoms(sp.Rational)))
-
-
-def presentable(expr, digits=12):
-    """``expr`` written for reading: numeric parts that are not readable at a glance
-    (long rationals from decimal parameters, nested roots) become decimals of
-    ``digits`` significant digits; symbols, functions and readable numbers stay.
-
-    >>> import sympy as sp
-    >>> w = sp.Symbol("w")
-    >>> presentable(sp.Rational(105664062500000, 5543626589101) * sp.log(w) + sp.Rational(1, 2))
-    19.0604581318*log(w) + 1/2
-    """
-    expr = sp.sympify(expr)
-    if not expr.args:
-        return expr if not expr.is_Rational or _readable(expr) else sp.Float(expr, digits)
-    if expr.is_number:
-        return expr if _readable(expr) else sp.Float(expr.evalf(digits + 3), digits)
-    if isinstance(expr, (sp.Mul, sp.Add)):          # the numeric part as one number
-        numeric = expr.func(*[a for a in expr.args if a.is_number])
-        rest = [presentable(a, digits) for a in expr.args if not a.is_number]
-        return expr.func(presentable(numeric, digits), *rest)
-    if isinstance(expr, sp.Integral):
-        return sp.Integral(presentable(expr.function, digits), *expr.limits)
-    return expr.func(*[presentable(a, digits) for a in expr.args])
 
 
 def _evaluator(expr, variable, name):
