@@ -28,6 +28,7 @@ _LAZY = {
     "Classification": "analytic", "Solution": "analytic", "StopPoint": "analytic",
     "Motion": "analytic", "DrivingMoment": "analytic", "AnalyticError": "analytic",
     "natural_frequencies": "modal", "Modes": "modal",
+    "linearize": "linear", "StateSpace": "linear",
     "Result": "result", "Event": "result",
     "sweep": "sweeps", "Sweep": "sweeps",
     **dict.fromkeys(["periodic_steady_state", "floquet", "forcing_period", "Floquet",
@@ -36,8 +37,10 @@ _LAZY = {
     **dict.fromkeys(["steady_running", "flywheel", "SteadyRunning", "Flywheel"],
                     "fluctuation"),
     "work_precision": "precision", "WorkPrecision": "precision",
+    "characteristic": "characteristics", "Characteristic": "characteristics",
+    "to_si": "units", "UnitError": "units", "animate": "animation", "Film": "animation",
 }
-_LAZY_MODULES = {"reduction"}
+_LAZY_MODULES = {"reduction", "units"}
 
 __all__ = [
     "motors", "Mechanism", "Link", "Load", "Spring", "Damper", "Gravity", "Friction",

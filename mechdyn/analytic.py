@@ -33,6 +33,7 @@ from scipy.optimize import minimize_scalar
 
 from .elements import as_expression
 from .errors import MechdynError, ParameterError, SceneError
+from .latex import presentable, readable
 from .symbols import t
 
 __all__ = ["AnalyticError", "Classification", "classify", "StopPoint", "Solution",
@@ -265,17 +266,21 @@ class Solution:
         return f"{printer(self._symbol(dependent))}({printer(self._symbol(variable))})"
 
     def latex(self) -> str:
-        """The classification as a comment and the relations as an ``align*`` block."""
-        rows = [f"{self._lhs(n, sp.latex)} &= {sp.latex(e)}" for n, e in self.relations.items()]
+        """The classification as a comment and the relations as an ``align*`` block
+        (written for reading: see :func:`presentable`; stop values with their number)."""
+        rows = [f"{self._lhs(n, sp.latex)} &= {sp.latex(presentable(e))}"
+                for n, e in self.relations.items()]
         if self.stop is not None:
-            rows.append(f"t_{{\\mathrm{{stop}}}} &= {sp.latex(self.stop.t)}, \\quad "
-                        f"{sp.latex(self.q)}_{{\\mathrm{{stop}}}} = {sp.latex(self.stop.phi)}")
+            rows.append(f"t_{{\\mathrm{{stop}}}} &= {_shown(self.stop.t, sp.latex)}, \\quad "
+                        f"{sp.latex(self.q)}_{{\\mathrm{{stop}}}} = "
+                        f"{_shown(self.stop.phi, sp.latex)}")
         return "\n".join([f"% {self.classification}", "\\begin{align*}",
                           " \\\\\n".join(rows), "\\end{align*}"])
 
     def __str__(self):
         lines = [str(self.classification)]
-        lines += [f"  {self._lhs(n, str)} = {sp.sstr(e)}" for n, e in self.relations.items()]
+        lines += [f"  {self._lhs(n, str)} = {sp.sstr(presentable(e))}"
+                  for n, e in self.relations.items()]
         if self.stop is not None:
             s = self.stop
             lines.append(f"  stop ({s.label}): t = {_shown(s.t)}, {self.q} = {_shown(s.phi)}, "
@@ -284,12 +289,17 @@ class Solution:
         return "\n".join(lines)
 
 
-def _shown(value):
-    """An exact value with its decimal approximation when it is not a plain number."""
+def _shown(value, printer=str):
+    """An exact value with its decimal value when it is not a plain number; the decimal
+    alone when the exact form is not readable (see :func:`presentable`)."""
     value = sp.sympify(value)
-    if value.is_Rational or value.is_Float or not value.is_number:
-        return str(value)
-    return f"{value} (= {float(value):.12g})"
+    if value.is_Float or not value.is_number or (value.is_Rational and readable(value)):
+        return printer(value)
+    number = f"{float(value):.12g}"
+    if not readable(value):
+        return number
+    return f"{printer(value)} (= {number})" if printer is str else \
+        f"{printer(value)} \\approx {number}"
 
 
 def _evaluator(expr, variable, name):
@@ -301,7 +311,7 @@ def _evaluator(expr, variable, name):
         return unavailable
     integrals = expr.atoms(sp.Integral)
     if not integrals:
-        f = sp.lambdify(variable, expr, "numpy", cse=True)
+        f = sp.lambdify(variable, presentable(expr, 17), "numpy", cse=True)  # no huge ints
         return lambda x: np.broadcast_to(f(np.asarray(x, dtype=float)), np.shape(x)) * 1.0
     (integral,) = integrals
     (s, lower, _), = integral.limits
@@ -334,9 +344,32 @@ def _unevaluated(result):
 
 def _real(result):
     """The real form of a real integral that sympy wrote with complex logarithms
-    (``log(x - 100) + I pi`` for ``x < 100``)."""
+    (``log(x - 100) + I pi`` for ``x < 100``): ``log|x - 100|``, the constant
+    ``I pi`` dropped (the real part, all symbols being real)."""
     real = sp.re(result)
-    return result if real.has(sp.re, sp.im) else sp.factor_terms(real)
+    if not real.has(sp.re, sp.im):
+        return sp.factor_terms(real)
+    return _real_logs(result)
+
+
+def _real_logs(expr):
+    """``re(expr)`` for real symbols, where sympy's ``re`` stops at Piecewise or logs:
+    each branch, ``log(u)`` as ``log(|u|)``, imaginary constants dropped; the
+    expression unchanged if some imaginary part is not a constant."""
+    if isinstance(expr, sp.Piecewise):
+        return sp.Piecewise(*[(_real_logs(e), c) for e, c in expr.args])
+    if not expr.has(sp.I):
+        return expr
+    as_abs = expr.replace(lambda e: isinstance(e, sp.log) and not e.args[0].is_positive,
+                          lambda e: sp.log(sp.Abs(e.args[0])))
+    terms = []
+    for term in sp.Add.make_args(sp.expand(as_abs, deep=False)):
+        if term.has(sp.I):
+            if term.free_symbols or term.has(sp.Piecewise):
+                return expr
+            term = sp.re(term)
+        terms.append(term)
+    return sp.Add(*terms)
 
 
 # ----------------------------------------------------------- the three integrable paths

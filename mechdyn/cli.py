@@ -58,12 +58,18 @@ def _plot(figure_maker, path):
 
 
 def _params(model, assignments):
-    """The model's default parameters overridden by ``name=value`` texts."""
-    from .parse import assignment
+    """The model's default parameters overridden by ``name=value`` texts (a value may
+    carry a unit: ``P=2 kN``, checked against the parameter's declared unit)."""
+    from .parse import named_value
+    from .units import UnitError, to_si
     params = dict(model.params)
     for text in assignments or ():
-        name, value = assignment(text)
-        params[model.param_symbol(name)] = value
+        name, value = named_value(text)
+        symbol = model.param_symbol(name)
+        try:
+            params[symbol] = to_si(value, model.mechanism.parameter_units.get(name))
+        except UnitError as error:
+            raise UnitError(f"--param {name}: {error}") from None
     return params
 
 
@@ -76,11 +82,13 @@ def _simulate(args):
             error.partial.to_csv(args.csv)
             print(f"partial result up to the failure written to {args.csv}", file=sys.stderr)
         raise
-    print(result.summary())
+    print(result.summary(units=args.units))
     if args.csv:
-        result.to_csv(args.csv)
+        result.to_csv(args.csv, sample=args.sample, units=args.units)
         print(f"wrote {args.csv}")
-    _plot(result, args.plot)
+    if args.plot:
+        result.plot(args.plot, sample=args.sample, units=args.units)
+        print(f"wrote {args.plot}")
     return 0
 
 
@@ -112,7 +120,9 @@ def _add_simulate_command(commands):
         epilog="examples:\n"
         "  mechdyn simulate models/shoe_brake.py --scene braking\n"
         "  mechdyn simulate models/shoe_brake.py --scene braking --param P=30 "
-        "--plot brake.png --csv brake.csv\n\n"
+        "--plot brake.png --csv brake.csv\n"
+        "  mechdyn simulate models/motor_startup.py --scene startup --param 'M_L=0.06 kN' "
+        "--units speed=rpm,power=kW --csv run.csv --sample 0.01\n\n"
         "exit status 1 if the integration fails (the partial trajectory still goes to --csv)",
         formatter_class=argparse.RawDescriptionHelpFormatter)
     _model_argument(simulate)
@@ -120,6 +130,8 @@ def _add_simulate_command(commands):
     _param_argument(simulate)
     simulate.add_argument("--plot", metavar="FILE.png", help="save a figure (PNG, SVG, PDF)")
     simulate.add_argument("--csv", metavar="FILE.csv", help="save the trajectory")
+    _units_argument(simulate)
+    _sample_argument(simulate)
     simulate.set_defaults(run=_simulate)
 
 
@@ -262,8 +274,8 @@ def _report(args):
 def _add_report_command(commands):
     report = commands.add_parser(
         "report", help="write one HTML page: derivation, scene, results, plots",
-        description="Write a self-contained HTML page for a scene: the derivation in LaTeX "
-        "(typeset by MathJax when online), the mechanism and its parameters, the scene, "
+        description="Write a self-contained HTML page for a scene: the derivation "
+        "(MathML: no network needed), the mechanism and its parameters, the scene, "
         "the results with events and the default figure; with --precision also the "
         "work-precision table of the integrators.",
         epilog="examples:\n"
@@ -385,6 +397,74 @@ def _add_sweep_command(commands):
     sweep.set_defaults(run=_sweep)
 
 
+def _characteristic(args):
+    from .characteristics import characteristic
+    from .model_file import load_model
+    model = load_model(args.model)
+    scene = model.scene(args.scene) if args.scene else None
+    curves = characteristic(model.mechanism, scene, _params(model, args.param),
+                            drive=args.drive)
+    print(curves.summary(args.units))
+    if args.plot:
+        curves.plot(args.plot, units=args.units)
+        print(f"wrote {args.plot}")
+    return EXIT_OK
+
+
+def _add_characteristic_command(commands):
+    command = commands.add_parser(
+        "characteristic", help="motor and load characteristics, operating points, stability",
+        description="Draw the drive's moment M(omega) against the reduced moment of the "
+        "load (the mean over a cycle where it depends on the position) for a one-DOF "
+        "machine, and list the operating points where they balance: stable where "
+        "dM_motor/domega < dM_load/domega.",
+        epilog="examples:\n"
+        "  mechdyn characteristic models/motor_startup.py --scene startup --plot ml.png\n"
+        "  mechdyn characteristic models/press_flywheel.py --scene steady --units speed=rpm "
+        "--plot press.png", formatter_class=argparse.RawDescriptionHelpFormatter)
+    _model_argument(command)
+    _scene_argument(command, required=False)
+    _param_argument(command)
+    command.add_argument("--drive", metavar="NAME", help="the driving load (name or tag; "
+                         "default: the load named or tagged motor)")
+    command.add_argument("--plot", metavar="FILE.png", help="save the characteristics")
+    _units_argument(command)
+    command.set_defaults(run=_characteristic)
+
+
+def _animate(args):
+    from .animation import animate
+    model, scene, params = _scene_inputs(args)
+    result = model.mechanism.simulate(scene, params)
+    film = animate(model.mechanism, result, params, args.out, sample=args.sample,
+                   fps=args.fps)
+    print(f"wrote {film.path}: {film.frames} frames, every {film.times[1] - film.times[0]:.4g} "
+          f"s of the motion at {film.fps:g} frames per second" if film.frames > 1 else
+          f"wrote {film.path}: 1 frame")
+    return EXIT_OK
+
+
+def _add_animate_command(commands):
+    command = commands.add_parser(
+        "animate", help="draw the links over the simulated motion into a GIF",
+        description="Simulate a scene and draw its links (their declared points, or the "
+        "centre of mass with a tick along the link's angle) frame by frame into a GIF: "
+        "one frame per --sample seconds of the motion (default 1/fps: real time).",
+        epilog="examples:\n"
+        "  mechdyn animate models/slider_crank.py --scene startup --out crank.gif\n"
+        "  mechdyn animate models/scotch_yoke.py --scene startup --out yoke.gif "
+        "--sample 0.01 --fps 20", formatter_class=argparse.RawDescriptionHelpFormatter)
+    _model_argument(command)
+    _scene_argument(command)
+    _param_argument(command)
+    command.add_argument("--out", metavar="FILE.gif", default="animation.gif",
+                         help="the GIF to write (default animation.gif)")
+    _sample_argument(command)
+    command.add_argument("--fps", type=float, default=25.0,
+                         help="frames per second of the GIF (default 25)")
+    command.set_defaults(run=_animate)
+
+
 # ------------------------------------------------------------- shared options
 def _model_argument(parser):
     parser.add_argument("model", help="model file (defines mechanism, params, scenes); "
@@ -398,7 +478,28 @@ def _scene_argument(parser, required=True):
 def _param_argument(parser):
     parser.add_argument("--param", action="append", metavar="NAME=VALUE",
                         help="override a parameter (a number or arithmetic such as 2*pi, "
-                        "never eval'ed); repeatable")
+                        "never eval'ed, SI unless a unit follows: 'P=2 kN', "
+                        "'omega_s=1500 rpm'); repeatable")
+
+
+def _units_argument(parser):
+    parser.add_argument("--units", metavar="KIND=UNIT,...",
+                        help="show results in these units: kinds angle, speed, "
+                        "acceleration, length, velocity, force, moment, power (or a column "
+                        "name), e.g. speed=rpm,power=kW,rope=kN")
+
+
+def _sample_argument(parser):
+    from .parse import number
+
+    def step(text):
+        value = number(text)
+        if not value > 0:
+            raise argparse.ArgumentTypeError(f"{text!r} is not a positive time step")
+        return value
+    parser.add_argument("--sample", type=step, metavar="DT",
+                        help="CSV rows and plot points every DT seconds (from the dense "
+                        "output) instead of the solver's steps")
 
 
 # ------------------------------------------------------------- parser and main
@@ -439,6 +540,8 @@ def build_parser() -> argparse.ArgumentParser:
     _add_report_command(commands)
     _add_sweep_command(commands)
     _add_periodic_command(commands)
+    _add_characteristic_command(commands)
+    _add_animate_command(commands)
     for command in commands.choices.values():
         command.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
                              help="show the traceback of an error")

@@ -233,13 +233,15 @@ _GENERATOR = _generator_hash()
 def declaration_key(mechanism, scene) -> str:
     """A hash of everything the compiled code depends on."""
     names, rigid = selection(mechanism, scene)
-    parts = [__version__, _GENERATOR, [q.func.__name__ for q in mechanism.coordinates]]
+    parts = [__version__, _GENERATOR, [q.func.__name__ for q in mechanism.coordinates],
+             sorted(mechanism.parameter_units.items())]   # units: checked when derived
     for element in mechanism.elements.values():
         parts.append([type(element).__name__, element.name, list(element.tags),
                       sorted((k, sp.srepr(v)) for k, v in element.expressions().items())])
     parts += [list(names), [list(r) for r in rigid]]
     if scene is not None:
-        parts.append([sp.srepr(o) if isinstance(o, sp.Basic) else str(o) for o in scene.outputs])
+        parts.append([[label, sp.srepr(o) if isinstance(o, sp.Basic) else str(o)]
+                      for label, o in scene.labelled_outputs()])
         parts.append([[sp.srepr(c.expression), sp.srepr(c.value), c.direction, repr(c)]
                       for c in scene.until])
     return hashlib.sha256(repr(parts).encode()).hexdigest()[:32]

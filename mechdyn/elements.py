@@ -80,12 +80,15 @@ class Element:
 class Link(Element):
     """A rigid body: mass ``m`` at centre of mass ``(x, y)``, moment of inertia ``J``
     about the centre of mass, rotation ``angle``. All positions are expressions of the
-    coordinates (and possibly of ``md.t`` for an imposed motion)."""
+    coordinates (and possibly of ``md.t`` for an imposed motion). ``points``: pairs
+    ``(x, y)`` an animation draws as the link's outline (joints, ends); they do not
+    enter the dynamics."""
     m: object = 0
     J: object = 0
     x: object = 0
     y: object = 0
     angle: object = 0
+    points: tuple = field(default=(), repr=False)
 
     def __post_init__(self):
         super().__post_init__()
@@ -93,6 +96,14 @@ class Link(Element):
         self._expr("J", nonnegative=True)
         for attribute in ("x", "y", "angle"):
             self._expr(attribute)
+        points = []
+        for index, point in enumerate(self.points):
+            if not (isinstance(point, (tuple, list)) and len(point) == 2):
+                raise DeclarationError(f"link {self.name!r}: points[{index}] must be a pair "
+                                       f"(x, y), got {point!r}")
+            points.append(tuple(as_expression(value, f"link {self.name!r}: points[{index}]")
+                                for value in point))
+        object.__setattr__(self, "points", tuple(points))
 
     def expressions(self):
         return {"m": self.m, "J": self.J, "x": self.x, "y": self.y, "angle": self.angle}

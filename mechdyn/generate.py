@@ -241,18 +241,18 @@ def _outputs(eqs, scene, elements) -> list:
     if scene is None:
         return []
     result = []
-    for item in scene.outputs:
+    for label, item in scene.labelled_outputs():
         if isinstance(item, str):
             if item.startswith("power:"):
                 name = item[len("power:"):]
                 if name not in eqs.powers:
                     raise SceneError(f"scene {scene.name!r}: output {item!r}: no load "
                                      f"{name!r} in the scene (loads: {sorted(eqs.powers)})")
-                result.append((item, eqs.powers[name]))
+                result.append((label, eqs.powers[name]))
                 continue
-            result.append((item, _element_output(eqs, scene, item, elements)))
+            result.append((label, _element_output(eqs, scene, item, elements)))
         elif isinstance(item, sp.Basic):
-            result.append((str(item), eqs.to_plain(sp.sympify(item))))
+            result.append((label, eqs.to_plain(sp.sympify(item))))
         else:
             raise SceneError(f"scene {scene.name!r}: output {item!r} is neither an element "
                              "name, 'power:NAME', nor a sympy expression")

@@ -15,7 +15,8 @@ from __future__ import annotations
 import sympy as sp
 from sympy.core.function import AppliedUndef
 
-__all__ = ["derivation_latex", "derivation_text", "equations_latex", "derivation_steps"]
+__all__ = ["derivation_latex", "derivation_text", "equations_latex", "derivation_steps",
+           "presentable", "readable"]
 
 _SIMPLIFY_LIMIT = 120      # operations; larger expressions are printed as derived
 
@@ -100,3 +101,38 @@ def equations_latex(eqs) -> str:
     return " \\\\ ".join(rows) if len(rows) == 1 else \
         "\\begin{aligned}" + " \\\\ ".join(r.replace(" = ", " &= ", 1) for r in rows) + \
         "\\end{aligned}"
+
+
+_READABLE_OPS, _READABLE_DIGITS = 16, 6
+
+
+def readable(number) -> bool:
+    """An exact number a person reads at a glance: few operations, no long integers,
+    nothing imaginary."""
+    return (not number.has(sp.I) and sp.count_ops(number) <= _READABLE_OPS
+            and all(abs(r.p) < 10 ** _READABLE_DIGITS and r.q < 10 ** _READABLE_DIGITS
+                    for r in number.atoms(sp.Rational)))
+
+
+def presentable(expr, digits=12):
+    """``expr`` written for reading: numeric parts that are not readable at a glance
+    (long rationals from decimal parameters, nested roots) become decimals of
+    ``digits`` significant digits; symbols, functions and readable numbers stay.
+
+    >>> import sympy as sp
+    >>> w = sp.Symbol("w")
+    >>> presentable(sp.Rational(105664062500000, 5543626589101) * sp.log(w) + sp.Rational(1, 2))
+    19.0604581318*log(w) + 1/2
+    """
+    expr = sp.sympify(expr)
+    if not expr.args:
+        return expr if not expr.is_Rational or readable(expr) else sp.Float(expr, digits)
+    if expr.is_number:
+        return expr if readable(expr) else sp.Float(expr.evalf(digits + 3), digits)
+    if isinstance(expr, (sp.Mul, sp.Add)):          # the numeric part as one number
+        numeric = expr.func(*[a for a in expr.args if a.is_number])
+        rest = [presentable(a, digits) for a in expr.args if not a.is_number]
+        return expr.func(presentable(numeric, digits), *rest)
+    if isinstance(expr, sp.Integral):
+        return sp.Integral(presentable(expr.function, digits), *expr.limits)
+    return expr.func(*[presentable(a, digits) for a in expr.args])

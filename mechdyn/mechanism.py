@@ -49,7 +49,10 @@ class Mechanism:
     coordinates : list
         Generalized coordinates made with :func:`mechdyn.coordinate`.
     units : dict, optional
-        Unit of each coordinate for summaries and plots, ``{x: "m"}``; default ``"rad"``.
+        Units of coordinates (``{x: "m"}``; default ``"rad"``) and of parameters
+        (``{P: "N", R: "m", I: "kg*m^2", f: "1"}``). With parameter units declared,
+        the dimension of every element's contribution to every equation is checked
+        (:meth:`check_dimensions`, also when the equations are derived).
     """
 
     def __init__(self, name: str, coordinates, units=None):
@@ -68,14 +71,37 @@ class Mechanism:
         self.name = name
         self.coordinates = tuple(coordinates)
         self.units = {}
-        for q, unit in (units or {}).items():
-            if q not in self.coordinates:
-                raise DeclarationError(f"mechanism {name!r}: units given for {q}, which is "
-                                       f"not one of its coordinates {_names(coordinates)}")
-            self.units[q.func.__name__] = str(unit)
+        self.parameter_units = {}
         self.elements: dict[str, Element] = {}
         self._speeds = {sp.Derivative(q, t) for q in self.coordinates}
         self._derived = {}
+        self._dimensions_checked = False
+        self.declare_units(units or {})
+
+    def declare_units(self, units: dict):
+        """Declare units of coordinates and parameters (``{x: "m", P: "kN"}``; ``"1"``
+        for a dimensionless parameter); see the class docstring."""
+        from .parse import ValueTextError, unit_terms
+        for key, unit in units.items():
+            if not isinstance(unit, str):
+                raise DeclarationError(f"mechanism {self.name!r}: the unit of {key} must "
+                                       f"be a text such as 'N*m', got {unit!r}")
+            try:
+                if unit.strip() not in ("", "1"):
+                    unit_terms(unit)
+            except ValueTextError as error:
+                raise DeclarationError(f"mechanism {self.name!r}: unit of {key}: "
+                                       f"{error}") from None
+            if key in self.coordinates:
+                self.units[key.func.__name__] = unit
+            elif isinstance(key, sp.Symbol) and key != t:
+                self.parameter_units[key.name] = unit
+            else:
+                raise DeclarationError(
+                    f"mechanism {self.name!r}: units given for {key}, which is neither one "
+                    f"of its coordinates {_names(self.coordinates)} nor a parameter symbol")
+        self._derived.clear()
+        self._dimensions_checked = False
 
     # ----------------------------------------------------------------- declaring
     def add(self, element: Element) -> Element:
@@ -86,14 +112,20 @@ class Mechanism:
                 f"({type(self.elements[element.name]).__name__.lower()}); names must be unique")
         for attribute, expr in element.expressions().items():
             self._check_dependencies(element, attribute, expr)
+        for index, point in enumerate(getattr(element, "points", ())):
+            for axis, expr in zip("xy", point):
+                self._check_dependencies(element, f"point {index} {axis}", expr)
         self.elements[element.name] = element
         self._derived.clear()
+        self._dimensions_checked = False
         return element
 
-    def link(self, name, m=0, J=0, x=0, y=0, angle=0, tags=()) -> Link:
+    def link(self, name, m=0, J=0, x=0, y=0, angle=0, tags=(), points=()) -> Link:
         """A rigid link: mass ``m`` at ``(x, y)``, inertia ``J`` about its centre of
-        mass, rotation ``angle`` (expressions of the coordinates)."""
-        return self.add(Link(name, m=m, J=J, x=x, y=y, angle=angle, tags=tags))
+        mass, rotation ``angle`` (expressions of the coordinates); ``points``, pairs
+        ``(x, y)`` of expressions, are what an animation draws (joints, ends)."""
+        return self.add(Link(name, m=m, J=J, x=x, y=y, angle=angle, tags=tags,
+                             points=points))
 
     def load(self, name, value, along, efficiency=None, tags=()) -> Load:
         """A force or moment ``value`` acting along ``along`` (see :class:`Load`)."""
@@ -117,7 +149,7 @@ class Mechanism:
 
     def _check_dependencies(self, element, attribute, expr):
         what = f"{type(element).__name__.lower()} {element.name!r}: {attribute} = {expr}"
-        allowed = _ALLOWED[(type(element), attribute)]
+        allowed = _ALLOWED.get((type(element), attribute), "qt")      # points: like x, y
         coords = set(self.coordinates)
         for d in expr.atoms(sp.Derivative):
             if d not in self._speeds:
@@ -150,8 +182,28 @@ class Mechanism:
         from .scene import selection
         key = selection(self, scene)
         if key not in self._derived:
-            self._derived[key] = derive(self, *key)
+            eqs = derive(self, *key)
+            if self.parameter_units:
+                from .dimensions import check_equations
+                self.check_dimensions()
+                check_equations(eqs, self)
+            self._derived[key] = eqs
         return self._derived[key]
+
+    def check_dimensions(self, scene=None):
+        """Check the dimension of every element's contribution to every equation (and,
+        with a scene, its stop conditions and initial values); raises a
+        :class:`DeclarationError` naming the element and both dimensions. Runs by
+        itself when equations are derived, if parameter units are declared."""
+        from .dimensions import check_elements, check_equations, check_scene
+        if not self._dimensions_checked:
+            check_elements(self)
+            self._dimensions_checked = True
+        if scene is not None:
+            eqs = self.equations(scene)
+            if not self.parameter_units:         # equations() checks when units exist
+                check_equations(eqs, self)
+            check_scene(self, scene)
 
     def reduced_inertia(self, scene=None):
         """The reduced (equivalent) moment of inertia of a one-DOF mechanism."""
@@ -173,9 +225,30 @@ class Mechanism:
         return compile_scene(self, scene)
 
     def simulate(self, scene, params=None):
-        """Integrate a :class:`Scene`; returns a :class:`Result`."""
+        """Integrate a :class:`Scene`; returns a :class:`Result` (its ``units``: the SI
+        unit of each coordinate and output)."""
+        from .errors import SimulationError
         from .simulate import simulate
-        return simulate(self, scene, params or {})
+        try:
+            result = simulate(self, scene, params or {})
+        except SimulationError as error:
+            if error.partial is not None:
+                self._label_units(error.partial, scene)
+            raise
+        return self._label_units(result, scene)
+
+    def linearize(self, scene=None, at=None, params=None, inputs=(), outputs=()):
+        """State-space matrices A, B, C, D about an operating point ``at`` (a
+        :class:`~mechdyn.linear.StateSpace`; inputs: parameters, outputs: coordinates,
+        speeds, element names or expressions)."""
+        from .linear import linearize
+        return linearize(self, scene, at, params, inputs, outputs)
+
+    def _label_units(self, result, scene):
+        from .display import output_units
+        result.units.update({label: unit for label, unit in output_units(self, scene).items()
+                             if label not in result.units})
+        return result
 
     # ------------------------------------------------------------------ viewing
     def __repr__(self):

@@ -60,7 +60,7 @@ from scipy.integrate import solve_ivp
 
 from .compile import compile_scene
 from .errors import MechdynError, SceneError
-from .symbols import speed, t
+from .symbols import dotted_symbol, speed, t
 
 __all__ = ["Floquet", "PeriodicSolution", "PeriodicError", "NoPeriodicSolutionError",
            "periodic_steady_state", "floquet", "forcing_period"]
@@ -518,14 +518,14 @@ class PeriodicSolution:
 
     def extremes(self, points=2001) -> dict:
         """``(min, max)`` over one period of every state and acceleration (named as in
-        ``Result.columns``: ``phi_2``, ``phidot_2``, ``phi_2ddot``), on ``points`` times."""
+        ``Result.columns``: ``phi_2``, ``phidot_2``, ``phiddot_2``), on ``points`` times."""
         c, p = self._problem.compiled, self._problem.p
         times = np.linspace(self.t0, self.t0 + self.period, points)
         states = self.result.trajectory.at(times)
         n = c.dof
         accelerations = np.array([c.rhs(s, states[:, j], p)[n:]
                                   for j, s in enumerate(times)]).T
-        names = self.state_names + [str(sp.Symbol(q)) + "ddot" for q in c.coordinates]
+        names = self.state_names + [str(dotted_symbol(q, 2)) for q in c.coordinates]
         rows = np.vstack([states, accelerations])
         return {name: (float(row.min()), float(row.max())) for name, row in zip(names, rows)}
 

@@ -27,48 +27,64 @@ def pyplot():
     return plt
 
 
-def dense_series(result, points=1001):
+def dense_series(result, points=1001, sample=None):
     """Times, states and outputs at the step points and ``points`` even times between
-    (from the dense output), so curves are smooth and peaks between steps are found."""
-    if len(result.t) < 2:
+    (from the dense output), so curves are smooth and peaks between steps are found;
+    or every ``sample`` seconds exactly."""
+    if sample is not None:
+        times = result.sample_times(sample)
+    elif len(result.t) < 2:
         return result.t, result.y, result.outputs
-    times = np.union1d(np.linspace(result.t[0], result.t[-1], points), result.t)
+    else:
+        times = np.union1d(np.linspace(result.t[0], result.t[-1], points), result.t)
     outputs = result.outputs_at(times) if result.outputs else result.outputs
     return times, result.trajectory.at(times), outputs
 
 
-def plot_result(result, path=None, points=400):
+def plot_result(result, path=None, points=400, sample=None, units=None):
     """Plot a :class:`~mechdyn.result.Result`; save to ``path`` if given.
 
     Panels, top down: speeds, positions (a panel per unit and scale, so a small
-    coordinate is not flattened by a large one), moments and forces of the requested
-    outputs, their powers. Events are marked; events at (nearly) the same time share one
-    line and one label.
+    coordinate is not flattened by a large one), then the requested outputs a panel per
+    kind (moments, forces, powers), each axis labelled with its unit (``units``: other
+    units to show, see :class:`mechdyn.display.Display`). Events are thin vertical
+    lines labelled in a strip above the axes, clear of the curves.
     """
+    from .display import Display, column_units, kind_of
     plt = pyplot()
+    shown, si = Display(units), column_units(result)
+    shown.check(si)
     n = result.compiled.dof
-    t, states, outputs = dense_series(result, points)
-    units = [result.units.get(name, "rad") for name in result.coordinates]
-    panels = [("speed", [(f"d{c}/dt", states[n + i], f"{u}/s")
-                         for i, (c, u) in enumerate(zip(result.coordinates, units))]),
-              ("position", [(c, states[i], u)
-                            for i, (c, u) in enumerate(zip(result.coordinates, units))])]
-    panels = [(name, group) for name, curves in panels for group in _groups(curves)]
-    loads = [(label, values, "") for label, values in outputs.items()
-             if not label.startswith("power:")]
-    powers = [(label, values, "W") for label, values in outputs.items()
-              if label.startswith("power:")]
-    panels += [("moment, force", loads)] * bool(loads) + [("power", powers)] * bool(powers)
-    fig, axes = plt.subplots(len(panels), 1, sharex=True, squeeze=False,
-                             figsize=(8, 2.4 * len(panels) + 0.8))
-    axes = axes[:, 0]
+    t, states, outputs = dense_series(result, points, sample)
+
+    def curve(label, column, values):
+        values, unit = shown.values(column, si[column], values)
+        return label, values, unit
+    panels = [("speed", [curve(f"d{c}/dt", result.state_names[n + i], states[n + i])
+                         for i, c in enumerate(result.coordinates)]),
+              ("position", [curve(c, c, states[i])
+                            for i, c in enumerate(result.coordinates)])]
+    panels = [("velocity" if group[0][2] == shown.unit("", "m/s") and name == "speed"
+                else name, group) for name, curves in panels for group in _groups(curves)]
+    by_kind = {}
+    for label, values in outputs.items():
+        kind = kind_of(si[label]) or ("power" if label.startswith("power:") else "output")
+        by_kind.setdefault(kind, []).append(curve(label, label, values))
+    panels += [(kind, group) for kind, curves in by_kind.items() for group in _groups(curves)]
+    fig = plt.figure(figsize=(8, 2.4 * len(panels) + 1.2))
+    grid = fig.add_gridspec(len(panels) + 1, 1, height_ratios=[0.35] + [1] * len(panels))
+    strip = fig.add_subplot(grid[0])
+    axes = [fig.add_subplot(grid[k + 1], sharex=strip) for k in range(len(panels))]
     for ax, (name, curves) in zip(axes, panels):
-        for label, values, unit in curves:
-            ax.plot(t, values, label=f"{label} [{unit}]" if unit else label)
-        ax.set_ylabel(name)
+        for label, values, _ in curves:
+            ax.plot(t, values, label=label)
+        unit = curves[0][2]
+        ax.set_ylabel(f"{name} [{unit.replace('*', ' ')}]" if unit else name)
         ax.grid(True, alpha=0.3)
         ax.legend(loc="best", fontsize=8)
-    _mark_events(axes, result.events, result.t[0], result.t[-1])
+    for ax in axes[:-1]:
+        ax.tick_params(labelbottom=False)
+    _mark_events(strip, axes, result.events, result.t[0], result.t[-1])
     axes[-1].set_xlabel("time t [s]")
     fig.suptitle(f"{result.mechanism_name} — {result.scene.name} ({result.reason})")
     return finish(fig, path)
@@ -90,8 +106,12 @@ def _groups(curves, ratio=20.0):
     return [[c[:3] for c in group] for group in groups]
 
 
-def _mark_events(axes, events, t_start, t_end):
-    """A dashed line per event time; events within 1.5 % of the run share one label."""
+def _mark_events(strip, axes, events, t_start, t_end):
+    """A thin line per event time on every axes; the labels in the strip above them.
+    Events within 1.5 % of the run share one label; labels alternate between two rows
+    so neighbours do not overlap."""
+    strip.set_axis_off()
+    strip.set_ylim(0, 1)
     close = 0.015 * max(t_end - t_start, 1e-300)
     clusters = []
     for event in sorted(events, key=lambda e: e.time):
@@ -102,15 +122,13 @@ def _mark_events(axes, events, t_start, t_end):
     for k, cluster in enumerate(clusters):
         for time in dict.fromkeys(e.time for e in cluster):
             for ax in axes:
-                ax.axvline(time, color="grey", lw=0.8, ls="--")
-        text = "\n".join(f"{e.kind} {e.name}" for e in cluster)
-        text += f"\nt = {cluster[0].time:.4g} s"
+                ax.axvline(time, color="grey", lw=0.6, ls="--", zorder=0)
+            strip.axvline(time, ymax=0.25, color="grey", lw=0.6)
+        names = ", ".join(dict.fromkeys(f"{e.kind} {e.name}" for e in cluster))
         right = cluster[0].time > t_start + 0.5 * (t_end - t_start)
-        axes[0].annotate(text, (cluster[0].time, 1 - 0.12 * (k % 3)),
-                         xycoords=("data", "axes fraction"), fontsize=7, va="top",
-                         ha="right" if right else "left", xytext=(-3 if right else 3, -3),
-                         textcoords="offset points",
-                         bbox={"boxstyle": "round", "fc": "white", "ec": "grey", "alpha": 0.85})
+        strip.text(cluster[0].time, 0.3 + 0.35 * (k % 2),
+                   f"{names} (t = {cluster[0].time:.4g} s)", fontsize=7, va="bottom",
+                   ha="right" if right else "left", clip_on=False)
 
 
 def plot_sweep(sweep, y, path=None):

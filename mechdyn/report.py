@@ -1,9 +1,10 @@
 """HTML views: the one-page derivation report, and the rich displays of Jupyter.
 
-:func:`report` writes a self-contained page: the derivation (LaTeX, typeset by MathJax
-from a CDN when online, readable as LaTeX source when not), the mechanism's elements and
-parameters, the scene, the results summary with its events, the default figure as an
-embedded PNG and, on request, the work-precision table of :mod:`mechdyn.precision`.
+:func:`report` writes a self-contained page that needs no network: the derivation as
+MathML (converted from LaTeX by latex2mathml; browsers lay MathML out natively), the
+mechanism's elements and parameters, the scene, the results summary with its events and
+units, the default figure as an embedded PNG and, on request, the work-precision table
+of :mod:`mechdyn.precision`.
 
 >>> import mechdyn as md
 >>> model = md.load_model("models/shoe_brake.py")
@@ -29,7 +30,6 @@ from .symbols import plain
 
 __all__ = ["report", "Report", "result_html", "mechanism_html"]
 
-MATHJAX = "https://cdn.jsdelivr.net/npm/mathjax@3/es5/tex-chtml.js"
 _STYLE = """
 body { font-family: system-ui, sans-serif; max-width: 1100px; margin: 2em auto;
        padding: 0 1em; color: #222; line-height: 1.4; }
@@ -45,7 +45,12 @@ pre { background: #f6f8fa; padding: .8em; overflow-x: auto; }
 img { max-width: 100%; }
 .failed { color: #a00; font-weight: bold; }
 .note { color: #555; font-size: .9em; }
+math[display=block] { margin: .2em 0; }
 """
+# Jupyter right-aligns table cells; text columns of mechdyn's views read left-aligned.
+_JUPYTER_STYLE = ("<style>.mechdyn table td, .mechdyn table th { text-align: left; "
+                  "vertical-align: top; } .mechdyn table td.num { text-align: right; }"
+                  "</style>")
 
 
 @dataclass(frozen=True)
@@ -97,7 +102,8 @@ def report(mechanism, scene, params, precision=False) -> Report:
         result, failure = error.partial, str(error)
     sections = [
         _section("Derivation", _derivation(eqs)),
-        _section("Mechanism", _elements(mechanism, eqs) + _parameters(params, eqs)),
+        _section("Mechanism", _elements(mechanism, eqs)
+                 + _parameters(params, eqs, mechanism.parameter_units)),
         _section("Scene", _scene(scene)),
         _section("Results", _results(result, failure)),
     ]
@@ -110,24 +116,23 @@ def report(mechanism, scene, params, precision=False) -> Report:
 # ------------------------------------------------------------------ Jupyter views
 def result_html(result) -> str:
     """A result as HTML: how it ended, final and peak values, events, the figure."""
-    return (f"<h3>{_e(result.mechanism_name)} — scene {_e(result.scene.name)}</h3>"
-            + _results(result, ""))
+    return (f"<div class='mechdyn'>{_JUPYTER_STYLE}<h3>{_e(result.mechanism_name)} — "
+            f"scene {_e(result.scene.name)}</h3>" + _results(result, "") + "</div>")
 
 
 def mechanism_html(mechanism) -> str:
-    """A mechanism as HTML: its elements and the derivation (LaTeX for MathJax)."""
+    """A mechanism as HTML: its elements and the derivation (MathML)."""
     eqs = mechanism.equations()
-    return (f"<h3>{_e(mechanism.name)}</h3>" + _elements(mechanism, eqs)
-            + _derivation(eqs, source=False))
+    return (f"<div class='mechdyn'>{_JUPYTER_STYLE}<h3>{_e(mechanism.name)}</h3>"
+            + _elements(mechanism, eqs) + _derivation(eqs, source=False) + "</div>")
 
 
 # --------------------------------------------------------------------- sections
 def _page(title, sections) -> str:
     return (f"<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'>"
-            f"<title>{_e(title)}</title><style>{_STYLE}</style>"
-            f"<script async src='{MATHJAX}'></script></head><body>"
-            f"<h1>{_e(title)}</h1><p class='note'>Made by mechdyn. Formulas are typeset by "
-            f"MathJax when online; offline they read as LaTeX source.</p>"
+            f"<title>{_e(title)}</title><style>{_STYLE}</style></head><body>"
+            f"<h1>{_e(title)}</h1><p class='note'>Made by mechdyn. The page is self-contained "
+            f"(formulas in MathML, figures embedded): it needs no network.</p>"
             + "".join(sections) + "</body></html>\n")
 
 
@@ -165,13 +170,13 @@ def _elements(mechanism, eqs) -> str:
             "<th>declaration</th></tr>" + "".join(rows) + "</table>")
 
 
-def _parameters(params, eqs) -> str:
+def _parameters(params, eqs, units) -> str:
     needed = {str(s) for s in eqs.parameters}
     rows = [f"<tr><td>{_math(sp.latex(sp.Symbol(str(k))))}</td>"
-            f"<td class='num'>{_e(_number(v))}</td></tr>"
+            f"<td class='num'>{_e(_number(v))}</td><td>{_e(units.get(str(k), ''))}</td></tr>"
             for k, v in params.items() if str(k) in needed]
-    return ("<h3>Parameters</h3><table><tr><th>parameter</th><th>value</th></tr>"
-            + "".join(rows) + "</table>")
+    return ("<h3>Parameters</h3><table><tr><th>parameter</th><th>value</th><th>unit</th>"
+            "</tr>" + "".join(rows) + "</table>")
 
 
 def _scene(scene) -> str:
@@ -179,7 +184,7 @@ def _scene(scene) -> str:
              ("rigid springs", ", ".join(name for name, _ in scene.rigid) or "none"),
              ("stop when", " or ".join(repr(c) for c in scene.until) or "—"),
              ("time limit", f"{scene.time_limit:g} s"),
-             ("outputs", ", ".join(map(str, scene.outputs)) or "none"),
+             ("outputs", ", ".join(label for label, _ in scene.labelled_outputs()) or "none"),
              ("integration", f"{scene.method}, rtol {scene.rtol:g}, atol {scene.atol}")]
     rows = "".join(f"<tr><th>{_e(k)}</th><td>{_e(v)}</td></tr>" for k, v in facts)
     initial = "".join(f"<tr><td>{_math(sp.latex(_plain(key)))}</td>"
@@ -202,7 +207,8 @@ def _results(result, failure) -> str:
         for label, values, u in ((name, states[i], unit), (f"d{name}/dt", states[n + i],
                                                           f"{unit}/s")):
             rows.append(_value_row(label, values, u))
-    rows += [_value_row(label, values, "") for label, values in outputs.items()]
+    rows += [_value_row(label, values, result.units.get(label, ""))
+             for label, values in outputs.items()]
     parts.append("<table><tr><th>quantity</th><th>start</th><th>final</th><th>peak</th>"
                  "<th>unit</th></tr>" + "".join(rows) + "</table>")
     if result.events:
@@ -275,12 +281,19 @@ def _number(value) -> str:
         return str(value)
 
 
-def _math(latex) -> str:
-    return f"\\({_e(latex)}\\)" if latex else ""
+def _math(latex, display="inline") -> str:
+    """LaTeX as MathML (latex2mathml); the source in <code> if it is not installed."""
+    if not latex:
+        return ""
+    try:
+        from latex2mathml.converter import convert
+    except ImportError:
+        return f"<code>{_e(latex)}</code>"
+    return convert(latex.replace("\\mathrm{", "\\text{"), display=display)  # words
 
 
 def _display(latex) -> str:
-    return f"\\[{_e(latex)}\\]"
+    return _math(latex, display="block")
 
 
 def _e(text) -> str:

@@ -71,7 +71,8 @@ class Result:
             raise KeyError(f"{key!r}: not a state ({', '.join(self.state_names)}) or an output "
                            f"({', '.join(self.compiled.output_labels) or 'none requested'})")
         else:
-            label = str(key)
+            label = next((name for name, item in self.scene.labelled_outputs()
+                          if item == key), str(key))
             if label in self.compiled.output_labels:
                 return ("output", label)
             raise KeyError(f"{key!r} is not a coordinate, speed, acceleration or output")
@@ -119,6 +120,15 @@ class Result:
     @cached_property
     def accelerations(self) -> np.ndarray:
         """Accelerations at the step points (one row per coordinate)."""
+        return self._accelerations(self.t, self.y, self._owner)
+
+    def accelerations_at(self, times) -> np.ndarray:
+        """Accelerations at any ``times`` inside the run, from the dense output."""
+        times = np.atleast_1d(np.asarray(times, dtype=float))
+        states, owners = self.trajectory.at(times, with_segments=True)
+        return self._accelerations(times, states, owners)
+
+    def _accelerations(self, times, states, owners) -> np.ndarray:
         n = self.compiled.dof
 
         def evaluate(t, y, owner):
@@ -126,9 +136,9 @@ class Result:
             if mode.groups:
                 return self._modes.accelerations(t, y, mode)[0]
             return np.array(self.compiled.rhs(t, y, self._modes.p(mode)))[n:]
-        if not len(self.t):
+        if not len(times):
             return np.zeros((n, 0))
-        return self._each_point(evaluate).reshape(n, -1)
+        return self._each_point(evaluate, times, states, owners).reshape(n, -1)
 
     @cached_property
     def outputs(self) -> dict:
@@ -168,19 +178,55 @@ class Result:
         return values[0], values[1]
 
     # ----------------------------------------------------------------- export
-    def columns(self) -> dict:
-        """All recorded series by column name (time, states, accelerations, outputs)."""
-        data = {"t": self.t}
+    def columns(self, sample=None) -> dict:
+        """All recorded series by column name (time, states, accelerations, outputs):
+        at the step points, or every ``sample`` seconds from the start (dense output)."""
+        if sample is None:
+            t, y, accelerations, outputs = self.t, self.y, self.accelerations, self.outputs
+        else:
+            t = self.sample_times(sample)
+            y, accelerations = self.trajectory.at(t), self.accelerations_at(t)
+            outputs = self.outputs_at(t)
+        data = {"t": t}
         for i, name in enumerate(self.state_names):
-            data[name] = self.y[i]
+            data[name] = y[i]
         for i, c in enumerate(self.coordinates):
-            data[str(dotted_symbol(c, 2))] = self.accelerations[i]
-        data.update(self.outputs)
+            data[str(dotted_symbol(c, 2))] = accelerations[i]
+        data.update(outputs)
         return data
 
-    def to_csv(self, path):
-        """Write the step points: one column per series, a header row of names."""
-        data = self.columns()
+    def sample_times(self, sample) -> np.ndarray:
+        """``t_0, t_0 + sample, ...`` up to the end of the run (and the end itself)."""
+        sample = float(sample)
+        first, last = float(self.t[0]), float(self.t[-1])
+        if not sample > 0 or not np.isfinite(sample):
+            raise MechdynError(f"sample = {sample}: give a positive time step")
+        count = int(np.floor((last - first) / sample * (1 + 1e-12))) + 1
+        if count > 10_000_000:
+            raise MechdynError(f"sample = {sample} s gives {count} rows over "
+                               f"{last - first:.6g} s; choose a larger step")
+        steps = np.arange(count)
+        per_second = round(1 / sample)          # 0.001 s: t = k / 1000, exactly rounded
+        times = first + (steps / per_second if per_second and
+                         abs(1 / sample - per_second) <= 1e-9 * per_second else steps * sample)
+        return times if last - times[-1] <= 1e-9 * max(sample, abs(last)) else \
+            np.append(times, last)
+
+    def to_csv(self, path, sample=None, units=None):
+        """Write one column per series and a header row of names: the step points, or
+        every ``sample`` seconds. ``units`` (``{"speed": "rpm"}``, see
+        :class:`mechdyn.display.Display`) converts columns and names their units in
+        the header (``phidot [rpm]``)."""
+        data = self.columns(sample)
+        if units is not None:
+            from .display import Display, column_units
+            shown, si = Display(units), column_units(self)
+            shown.check(si)
+            converted = {}
+            for name, values in data.items():
+                values, unit = shown.values(name, si.get(name, ""), values)
+                converted[f"{name} [{unit}]" if unit else name] = values
+            data = converted
         with open(path, "w", newline="") as handle:
             writer = csv.writer(handle)
             writer.writerow(list(data))
@@ -196,24 +242,30 @@ class Result:
             raise MechdynError("to_pandas() needs pandas: pip install pandas") from None
         return pandas.DataFrame(self.columns())
 
-    def summary(self) -> str:
-        """A few lines: how it ended, final and peak values, events, cost."""
+    def summary(self, units=None) -> str:
+        """A few lines: how it ended, final and peak values, events, cost. ``units``
+        shows columns in other units (``{"speed": "rpm", "power": "kW"}``)."""
+        from .display import Display, column_units
+        shown, si = Display(units), column_units(self)
+        shown.check(si)
         lines = [f"{self.mechanism_name} — scene {self.scene.name!r}: ended at "
                  f"t = {self.t_end:.6g} s ({self.reason})"]
         n = self.compiled.dof
         for i, c in enumerate(self.coordinates):
-            unit = self.units.get(c, "rad")
-            final = self.y[i][-1]
+            (final,), unit = shown.values(c, si[c], self.y[i][-1:])
             text = f"  {c}: final {final:.6g} {unit}"
             if unit == "rad":
                 text += f" = {final / (2 * np.pi):.6g} rev"
-            speed = self.y[n + i]
+            name = self.state_names[n + i]
+            speed, speed_unit = shown.values(name, si[name], self.y[n + i])
             peak = speed[np.argmax(np.abs(speed))]
-            text += f"; speed final {speed[-1]:.6g}, peak {peak:.6g} {unit}/s"
+            text += f"; speed final {speed[-1]:.6g}, peak {peak:.6g} {speed_unit}"
             lines.append(text)
         for label, values in self.outputs.items():
+            values, unit = shown.values(label, si[label], values)
             peak = values[np.argmax(np.abs(values))] if len(values) else float("nan")
-            lines.append(f"  {label}: peak {peak:.6g}, final {values[-1]:.6g}")
+            unit = f" {unit}" if unit else ""
+            lines.append(f"  {label}: peak {peak:.6g}{unit}, final {values[-1]:.6g}{unit}")
         for event in self.events:
             lines.append(f"  {event}")
         s = self.stats
@@ -230,8 +282,10 @@ class Result:
         from .report import result_html
         return result_html(self)
 
-    def plot(self, path=None, points=400):
-        """Coordinates, speeds and outputs against time, events marked. Saves to ``path``
-        (PNG, SVG, PDF by its suffix) and returns the matplotlib figure."""
+    def plot(self, path=None, points=400, sample=None, units=None):
+        """Coordinates, speeds and outputs against time, events marked, axes labelled
+        with units (``units`` shows other ones, ``{"speed": "rpm"}``). Curves at
+        ``points`` even times and the steps, or every ``sample`` seconds. Saves to
+        ``path`` (PNG, SVG, PDF by its suffix) and returns the matplotlib figure."""
         from .plotting import plot_result
-        return plot_result(self, path, points)
+        return plot_result(self, path, points, sample=sample, units=units)

@@ -81,9 +81,10 @@ class Scene:
         Stop at the first one met (``md.stopped``, ``md.reaches``).
     t_end : float, optional
         End time; required without ``until`` (defaults to 1000 s with it).
-    outputs : list, optional
+    outputs : list or dict, optional
         Element names (their generalized force along their own coordinate, e.g. a
-        spring's moment), ``"power:NAME"``, or expressions to record.
+        spring's moment), ``"power:NAME"``, or expressions to record; a dict names
+        them: ``{"rod force": expr, "shaft": "shaft"}`` (labels of results, CSV, plots).
     rigid : list or dict, optional
         Springs made rigid: ``stretch = 0`` eliminates a coordinate (a dict maps a
         spring name to the coordinate to eliminate).
@@ -133,8 +134,15 @@ class Scene:
             rigid = tuple((r, None) if isinstance(r, str) else (r[0], _coordinate_name(r[1]))
                           for r in ((self.rigid,) if isinstance(self.rigid, str) else self.rigid))
         object.__setattr__(self, "rigid", rigid)
-        outputs = (self.outputs,) if isinstance(self.outputs, str) else tuple(self.outputs)
+        if isinstance(self.outputs, dict):
+            outputs = tuple((str(label), item) for label, item in self.outputs.items())
+        else:
+            outputs = (self.outputs,) if isinstance(self.outputs, str) else tuple(self.outputs)
         object.__setattr__(self, "outputs", outputs)
+        labels = [label for label, _ in self.labelled_outputs()]
+        for label in labels:
+            if labels.count(label) > 1:
+                raise SceneError(f"scene {self.name!r}: two outputs are labelled {label!r}")
         if self.t_end is None and not until:
             raise SceneError(f"scene {self.name!r}: give t_end or a stop condition (until=)")
         if self.t_end is not None and not self.t_end > self.t_start:
@@ -150,6 +158,19 @@ class Scene:
             if value is not None and not (isinstance(value, (int, float)) and value > 0):
                 raise SceneError(f"scene {self.name!r}: {name} must be a positive number "
                                  f"or None, got {value!r}")
+
+    def labelled_outputs(self) -> list:
+        """``(label, item)`` for each output: the dict's names, else the element name,
+        ``"power:NAME"`` or the expression written in plain symbols."""
+        pairs = []
+        for output in self.outputs:
+            if isinstance(output, tuple) and len(output) == 2 and isinstance(output[0], str):
+                pairs.append(output)
+            elif isinstance(output, sp.Basic):
+                pairs.append((_readable(output), output))
+            else:
+                pairs.append((str(output), output))
+        return pairs
 
     @property
     def time_limit(self) -> float:

@@ -11,7 +11,9 @@ J_1A, m_2, h, Phi, M_1, F_2 = sp.symbols("J_1A m_2 h Phi M_1 F_2", positive=True
 
 rise = h * phi / Phi
 
-mechanism = md.Mechanism("Cam and translating follower", coordinates=[phi])
+mechanism = md.Mechanism("Cam and translating follower", coordinates=[phi],
+                         units={J_1A: "kg*m^2", m_2: "kg", h: "m", Phi: "rad",
+                                M_1: "N*m", F_2: "N"})
 mechanism.link("cam", J=J_1A, angle=phi)
 mechanism.link("follower", m=m_2, y=rise)
 mechanism.load("drive", M_1, along=phi)

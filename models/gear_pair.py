@@ -12,7 +12,9 @@ z_1, z_2, J_1, J_2, M_1, M_2 = sp.symbols("z_1 z_2 J_1 J_2 M_1 M_2", positive=Tr
 # Gear 2's angle, counted in its own sense of rotation (it turns against gear 1).
 phi_2 = z_1 / z_2 * phi_1
 
-mechanism = md.Mechanism("Gear pair", coordinates=[phi_1])
+mechanism = md.Mechanism("Gear pair", coordinates=[phi_1],
+                         units={z_1: "1", z_2: "1", J_1: "kg*m^2", J_2: "kg*m^2",
+                                M_1: "N*m", M_2: "N*m"})
 mechanism.link("gear 1", J=J_1, angle=phi_1)
 mechanism.link("gear 2", J=J_2, angle=phi_2)
 mechanism.load("drive", M_1, along=phi_1)

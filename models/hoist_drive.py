@@ -32,7 +32,10 @@ M_k, s_k, omega_0, M_br = sp.symbols("M_k s_k omega_0 M_br", positive=True)
 i = i_1 * i_2
 drum_arc = r_b * phi / i
 
-mechanism = md.Mechanism("Hoist drive", coordinates=[phi, h], units={h: "m"})
+mechanism = md.Mechanism("Hoist drive", coordinates=[phi, h], units={
+    h: "m", J_m: "kg*m^2", J_c: "kg*m^2", J_g: "kg*m^2", J_d: "kg*m^2", i_1: "1", i_2: "1",
+    r_b: "m", m: "kg", g: "m/s^2", E_k: "N", l: "m", d_r: "N*s/m", eta: "1", M_k: "N*m",
+    s_k: "1", omega_0: "rad/s", M_br: "N*m"})
 mechanism.link("motor rotor", J=J_m, angle=phi)
 mechanism.link("coupling", J=J_c, angle=phi)
 mechanism.link("intermediate shaft", J=J_g, angle=phi / i_1)

@@ -38,8 +38,9 @@ s_A, s_B = sword(crank_A), sword(crank_B)
 bend_3 = x_3 - (2 * s_A + s_B) / 3     # deflection of the beam at mass 3
 bend_4 = x_4 - (s_A + 2 * s_B) / 3
 
-mechanism = md.Mechanism("Loom sley drive", coordinates=[phi_2, x_3, x_4],
-                         units={x_3: "m", x_4: "m"})
+mechanism = md.Mechanism("Loom sley drive", coordinates=[phi_2, x_3, x_4], units={
+    x_3: "m", x_4: "m", omega: "rad/s", lam: "m", l: "m", J_2: "kg*m^2", m_s: "kg",
+    m_3: "kg", m_4: "kg", k_t: "N*m/rad", d_t: "N*m*s/rad", k_b: "N/m", d_b: "N*s/m"})
 mechanism.link("crank B", J=J_2, angle=crank_B)
 mechanism.link("sword B", m=m_s, x=s_B)
 mechanism.link("beam 3", m=m_3, x=x_3)

@@ -12,7 +12,9 @@ phi = md.coordinate("phi")
 J_m, J_f, M_k, s_k, omega_s, M_L, M_b = sp.symbols(
     "J_m J_f M_k s_k omega_s M_L M_b", positive=True)
 
-mechanism = md.Mechanism("Motor and flywheel", coordinates=[phi])
+mechanism = md.Mechanism("Motor and flywheel", coordinates=[phi], units={
+    J_m: "kg*m^2", J_f: "kg*m^2", M_k: "N*m", s_k: "1", omega_s: "rad/s", M_L: "N*m",
+    M_b: "N*m"})
 mechanism.link("rotor", J=J_m, angle=phi)
 mechanism.link("flywheel", J=J_f, angle=phi)
 mechanism.load("motor", md.motors.kloss(M_k, s_k, omega_s)(md.speed(phi)), along=phi)

@@ -17,7 +17,9 @@ phi_H = phi_1 / i_1H                                    # carrier angle
 phi_2 = phi_H - z_1 / z_2 * (phi_1 - phi_H)             # planet shaft (relative to carrier)
 teeth = {z_1: 20, z_2: 40, z_3: 20, z_4: 40}            # the train's geometry
 
-mechanism = md.Mechanism("Planetary 2K-H train", coordinates=[phi_1])
+mechanism = md.Mechanism("Planetary 2K-H train", coordinates=[phi_1], units={
+    z_1: "1", z_2: "1", z_3: "1", z_4: "1", J_1: "kg*m^2", J_2: "kg*m^2", J_3: "kg*m^2",
+    J_H: "kg*m^2", M_1: "N*m", M_H: "N*m"})
 mechanism.link("sun 1", J=J_1, angle=phi_1)
 mechanism.link("planets 2+3", J=J_2 + J_3, angle=phi_2.subs(teeth))
 mechanism.link("carrier H", J=J_H, angle=phi_H.subs(teeth))

@@ -39,7 +39,9 @@ stroke = r * (1 - sp.cos(phi)) + l * (1 - sp.sqrt(1 - (r / l) ** 2 * sp.sin(phi)
 pulse = (sp.cos(phi - phi_w) - sp.cos(beta)) / (1 - sp.cos(beta))
 process = F_p * sp.Piecewise((pulse, pulse > 0), (0, True))
 
-mechanism = md.Mechanism("Crank press with flywheel", coordinates=[phi])
+mechanism = md.Mechanism("Crank press with flywheel", coordinates=[phi], units={
+    r: "m", l: "m", m_r: "kg", J_c: "kg*m^2", J_m: "kg*m^2", J_f: "kg*m^2", i: "1",
+    M_k: "N*m", s_k: "1", omega_s: "rad/s", F_p: "N", phi_w: "rad", beta: "rad"})
 mechanism.link("crank", J=J_c, angle=phi)
 mechanism.link("motor rotor", J=J_m, angle=i * phi)
 mechanism.link("flywheel", J=J_f, angle=i * phi)

@@ -12,9 +12,10 @@ J_1A, m_3, l, M_1, F_3 = sp.symbols("J_1A m_3 l M_1 F_3", positive=True)
 
 s_3 = l * sp.cos(phi)
 
-mechanism = md.Mechanism("Scotch yoke", coordinates=[phi])
-mechanism.link("crank", J=J_1A, angle=phi)
-mechanism.link("yoke", m=m_3, x=s_3)
+mechanism = md.Mechanism("Scotch yoke", coordinates=[phi], units={
+    J_1A: "kg*m^2", m_3: "kg", l: "m", M_1: "N*m", F_3: "N"})
+mechanism.link("crank", J=J_1A, angle=phi, points=[(0, 0), (s_3, l * sp.sin(phi))])
+mechanism.link("yoke", m=m_3, x=s_3, points=[(s_3, -l), (s_3, l)])    # the slot
 mechanism.load("drive", M_1, along=phi, tags=["motor"])
 mechanism.load("resistance", F_3, along=s_3, tags=["process"])
 

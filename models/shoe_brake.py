@@ -10,7 +10,8 @@ import mechdyn as md
 phi = md.coordinate("phi")
 I, f, P, R = sp.symbols("I f P R", positive=True)
 
-mechanism = md.Mechanism("Shoe brake", coordinates=[phi])
+mechanism = md.Mechanism("Shoe brake", coordinates=[phi],
+                         units={I: "kg*m^2", f: "1", P: "N", R: "m"})
 mechanism.link("disc", J=I, angle=phi)
 mechanism.friction("shoe", f * 2 * P * R, along=phi, tags=["brake"])
 

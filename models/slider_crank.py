@@ -16,11 +16,16 @@ r, L, J_1, m_2, J_2, m_3, M_0, omega_0 = sp.symbols(
 
 rod_run = sp.sqrt(L**2 - r**2 * sp.sin(phi)**2)   # slider travel beyond the crank pin
 
-mechanism = md.Mechanism("Slider-crank", coordinates=[phi])
-mechanism.link("crank", J=J_1, angle=phi)
+mechanism = md.Mechanism("Slider-crank", coordinates=[phi], units={
+    r: "m", L: "m", J_1: "kg*m^2", m_2: "kg", J_2: "kg*m^2", m_3: "kg", M_0: "N*m",
+    omega_0: "rad/s"})
+pin = (r * sp.cos(phi), r * sp.sin(phi))
+slider_x = r * sp.cos(phi) + rod_run
+mechanism.link("crank", J=J_1, angle=phi, points=[(0, 0), pin])
 mechanism.link("rod", m=m_2, J=J_2, x=r * sp.cos(phi) + rod_run / 2, y=r * sp.sin(phi) / 2,
-               angle=-sp.asin(r * sp.sin(phi) / L))
-mechanism.link("slider", m=m_3, x=r * sp.cos(phi) + rod_run)
+               angle=-sp.asin(r * sp.sin(phi) / L), points=[pin, (slider_x, 0)])
+mechanism.link("slider", m=m_3, x=slider_x,
+               points=[(slider_x - r / 4, 0), (slider_x + r / 4, 0)])
 mechanism.load("motor", md.motors.dc_shunt(M_0, omega_0)(md.speed(phi)), along=phi)
 
 params = {r: 0.1, L: 0.4, J_1: 0.01, m_2: 0.5, J_2: 0.5 * 0.4**2 / 12, m_3: 1.0,

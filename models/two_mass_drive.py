@@ -14,7 +14,8 @@ J_1, J_2, k, c, M = sp.symbols("J_1 J_2 k c M", positive=True)
 
 twist = phi_1 - phi_2
 
-mechanism = md.Mechanism("Two-mass drive", coordinates=[phi_1, phi_2])
+mechanism = md.Mechanism("Two-mass drive", coordinates=[phi_1, phi_2], units={
+    J_1: "kg*m^2", J_2: "kg*m^2", k: "N*m/rad", c: "N*m*s/rad", M: "N*m"})
 mechanism.link("motor", J=J_1, angle=phi_1)
 mechanism.link("load", J=J_2, angle=phi_2)
 mechanism.spring("shaft", k, stretch=twist)

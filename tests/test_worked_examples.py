@@ -181,7 +181,8 @@ def test_rope_hoist_reduced_quantities():
     model = load("rope_hoist")
     I1, R1, R2, m2, rho2, r2, m3, Mc, g = symbols_of(model, "I_1 R_1 R_2 m_2 rho_2 r_2 m_3 M_c g")
     phi, omega, eps = plain_state(model)
-    M = 4200 + 200 * md.t
+    M_0, M_t = symbols_of(model, "M_0 M_t")
+    M = M_0 + M_t * md.t                     # the worked example's 4200 + 200 t N m
     I_red2 = m2 * rho2**2 + m3 * r2**2
     G3 = m3 * g
     # shaft 1 turns R2/R1 as fast as shaft 2 (belt without slip)

@@ -1,0 +1,129 @@
+"""What results are measured in, and the units people want to read them in.
+
+Every column of a result has an SI unit: coordinates their declared unit (rad by
+default), speeds and accelerations per s and s^2, an element's output the moment or
+force it exerts along its own coordinate (N*m along an angle, N along a length; from
+the parameter units where declared), ``power:NAME`` W, an expression output its
+dimension. :class:`Display` picks other units to show: by kind (``speed=rpm``,
+``power=kW``) or by column (``rope=kN``).
+
+>>> shown = Display("speed=rpm, power=kW")
+>>> shown.unit("phidot", "rad/s"), shown.unit("power:motor", "W"), shown.unit("phi", "rad")
+('rpm', 'kW', 'rad')
+>>> shown.values("phidot", "rad/s", [157.07963267948966])
+(array([1500.]), 'rpm')
+"""
+from __future__ import annotations
+
+import numpy as np
+import sympy as sp
+
+from .errors import MechdynError
+
+__all__ = ["KINDS", "Display", "column_units", "output_units", "kind_of"]
+
+# kind -> its SI unit (the text columns carry)
+KINDS = {"angle": "rad", "speed": "rad/s", "acceleration": "rad/s^2", "length": "m",
+         "velocity": "m/s", "linear_acceleration": "m/s^2", "force": "N",
+         "moment": "N*m", "power": "W", "time": "s"}
+
+
+def kind_of(unit: str) -> str:
+    """The kind of a column's SI unit (``"N*m"``: ``"moment"``), or ``""``."""
+    return next((kind for kind, si in KINDS.items() if si == unit), "")
+
+
+class Display:
+    """Display units by kind or column name: ``"speed=rpm,power=kW"`` or a dict."""
+
+    def __init__(self, choices=None):
+        if isinstance(choices, Display):
+            choices = choices.choices
+        if isinstance(choices, str):
+            pairs = [part.partition("=") for part in choices.split(",") if part.strip()]
+            if any(not sep or not unit.strip() for _, sep, unit in pairs):
+                raise MechdynError(f"units {choices!r}: expected KIND=UNIT pairs separated "
+                                   f"by commas, e.g. speed=rpm,power=kW (kinds: "
+                                   f"{', '.join(KINDS)}; or a column name)")
+            choices = {key.strip(): unit.strip() for key, _, unit in pairs}
+        self.choices = dict(choices or {})
+
+    def unit(self, column: str, si: str) -> str:
+        """The unit to show ``column`` (measured in ``si``) in."""
+        if column in self.choices:
+            return self.choices[column]
+        kind = kind_of(si)
+        return self.choices.get(kind, si) if kind else si
+
+    def values(self, column: str, si: str, values):
+        """``(values, unit)``: the values converted to the display unit."""
+        unit = self.unit(column, si)
+        if unit == si or not si:
+            return np.asarray(values, dtype=float), si
+        from .units import UnitError, convert
+        try:
+            return convert(values, si, unit), unit
+        except UnitError as error:
+            raise MechdynError(f"units: {column} ({si}): {error}") from None
+
+    def check(self, columns: dict):
+        """Refuse keys that name neither a kind nor one of ``columns`` (name -> SI)."""
+        unknown = [key for key in self.choices if key not in KINDS and key not in columns]
+        if unknown:
+            raise MechdynError(f"units: {', '.join(unknown)} is neither a kind "
+                               f"({', '.join(KINDS)}) nor a column "
+                               f"({', '.join(columns)})")
+        for column, si in columns.items():
+            self.values(column, si, [0.0])
+
+
+def column_units(result) -> dict:
+    """The SI unit of every column of ``result.columns()`` (``""`` where unknown)."""
+    from .symbols import dotted_symbol
+    units = {"t": "s"}
+    for c in result.coordinates:
+        units[c] = result.units.get(c, "rad")
+    n = len(result.coordinates)
+    for i, c in enumerate(result.coordinates):
+        units[result.state_names[n + i]] = _per(units[c], "s")
+    for c in result.coordinates:
+        units[str(dotted_symbol(c, 2))] = _per(units[c], "s^2")
+    for label in result.compiled.output_labels:
+        units[label] = result.units.get(label, "W" if label.startswith("power:") else "")
+    return units
+
+
+def _per(unit, time):
+    return f"{unit}/{time}" if unit not in ("", "1") else f"1/{time}"
+
+
+def output_units(mechanism, scene) -> dict:
+    """The SI unit of each of a scene's outputs, by label (see the module)."""
+    from .dimensions import ENERGY, Misfit, MissingUnit, _plain, dimension_of, \
+        known_dimensions
+    from .elements import Damper, Friction, Load, Spring
+    known = {sp.Symbol(s.name): d for s, d in known_dimensions(mechanism).items()}
+
+    def dimension(expr):
+        try:
+            return dimension_of(_plain(expr), known)
+        except (Misfit, MissingUnit):
+            return None
+    units = {}
+    for label, item in scene.labelled_outputs():
+        if isinstance(item, str) and item.startswith("power:"):
+            units[label] = "W"
+            continue
+        element = mechanism.elements.get(item) if isinstance(item, str) else None
+        if isinstance(element, (Load, Friction)):
+            along = dimension(element.along)
+            units[label] = (ENERGY / along).si if along is not None else ""
+        elif isinstance(element, (Spring, Damper)):
+            stretch = dimension(element.stretch)
+            units[label] = (ENERGY / stretch).si if stretch is not None else ""
+        elif isinstance(item, sp.Basic):
+            dim = dimension(item)
+            units[label] = dim.si if dim is not None and not dim.dimensionless else ""
+        else:
+            units[label] = ""
+    return units

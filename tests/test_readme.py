@@ -1,0 +1,29 @@
+"""The README's python blocks run as written, each on its own, from a folder where
+`models/` holds the bundled models (what they write lands in a temporary folder)."""
+import re
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+BLOCKS = re.findall(r"```python\n(.*?)```", (ROOT / "README.md").read_text(), re.S)
+HEAVY = ("periodic_steady_state", "md.sweep(")       # seconds each: run as slow tests
+
+
+def _cases():
+    for index, block in enumerate(BLOCKS):
+        heading = block.strip().splitlines()[0][:40]
+        marks = [pytest.mark.slow] if any(word in block for word in HEAVY) else []
+        yield pytest.param(block, id=f"{index}:{heading}", marks=marks)
+
+
+def test_there_are_blocks():
+    assert len(BLOCKS) >= 8
+
+
+@pytest.mark.parametrize("block", _cases())
+def test_a_readme_block_runs_as_written(block, tmp_path, monkeypatch):
+    pytest.importorskip("matplotlib")
+    (tmp_path / "models").symlink_to(ROOT / "models")
+    monkeypatch.chdir(tmp_path)
+    exec(compile(block, "README.md", "exec"), {"__name__": "readme"})
