@@ -282,10 +282,10 @@ def _check_work(label, formula, size, along, along_expr, known, mechanism):
         return
     plain = _plain(along_expr)
     for q in mechanism.coordinates:
-        symbol = dotted_symbol(q.func.__name__, 0)
+        symbol = sp.Symbol(q.func.__name__)         # plain symbols are matched by name
         if symbol in plain.free_symbols:
             break
-    dq = known[symbol]
+    dq = _by_name(known)[symbol]
     have, need = size * along / dq, ENERGY / dq
     if have != need:
         raise DeclarationError(f"{label}: {formula.format(q=symbol)} has dimension "
@@ -303,7 +303,7 @@ def check_equations(eqs, mechanism):
     """Check every term of the derived equations ``M a = f`` (see the module)."""
     known = _by_name(known_dimensions(mechanism))
     for i, qi in enumerate(eqs.q):
-        need = ENERGY / known[qi]
+        need = ENERGY / known[sp.Symbol(qi.name)]
         terms = [(f"inertia term {eqs.mass_matrix[i, j] * eqs.a[j]}",
                   eqs.mass_matrix[i, j] * eqs.a[j]) for j in range(eqs.dof)
                  if eqs.mass_matrix[i, j] != 0]

@@ -242,6 +242,37 @@ class Result:
             raise MechdynError("to_pandas() needs pandas: pip install pandas") from None
         return pandas.DataFrame(self.columns())
 
+    def peak(self, key, samples=8) -> tuple:
+        """``(time, value)`` of the largest magnitude of a state or output over the run,
+        from the dense output: ``samples`` points in every step, then the best one
+        refined between its neighbours (a peak between two steps is found)."""
+        kind, which = self._index(key)
+        if kind == "acceleration":
+            raise KeyError(f"peak(): {key} is an acceleration; ask for a state or output")
+        if len(self.t) < 2:
+            value = self[key]
+            return float(self.t[-1]), float(value[-1])
+        per_step = max(1, min(samples, 20_000 // max(len(self.t) - 1, 1)))
+        fractions = np.arange(per_step) / per_step
+        times = np.append((self.t[:-1, None] + np.diff(self.t)[:, None] * fractions).ravel(),
+                          self.t[-1])
+
+        def values(at):
+            if kind == "state":
+                return self.trajectory.at(at)[which]
+            return self.outputs_at(at)[which]
+        sampled = np.abs(values(times))
+        best = int(np.argmax(sampled))
+        low, high = times[max(best - 1, 0)], times[min(best + 1, len(times) - 1)]
+        if high > low:
+            from scipy.optimize import minimize_scalar
+            found = minimize_scalar(lambda x: -abs(float(values(np.array([x]))[0])),
+                                    bounds=(low, high), method="bounded",
+                                    options={"xatol": 1e-12 * max(1.0, abs(high))})
+            if -found.fun > sampled[best]:
+                return float(found.x), float(values(np.array([found.x]))[0])
+        return float(times[best]), float(values(times[best:best + 1])[0])
+
     def summary(self, units=None) -> str:
         """A few lines: how it ended, final and peak values, events, cost. ``units``
         shows columns in other units (``{"speed": "rpm", "power": "kW"}``)."""
@@ -257,15 +288,15 @@ class Result:
             if unit == "rad":
                 text += f" = {final / (2 * np.pi):.6g} rev"
             name = self.state_names[n + i]
-            speed, speed_unit = shown.values(name, si[name], self.y[n + i])
-            peak = speed[np.argmax(np.abs(speed))]
-            text += f"; speed final {speed[-1]:.6g}, peak {peak:.6g} {speed_unit}"
+            speed, speed_unit = shown.values(name, si[name],
+                                             np.array([self.y[n + i][-1], self.peak(name)[1]]))
+            text += f"; speed final {speed[0]:.6g}, peak {speed[1]:.6g} {speed_unit}"
             lines.append(text)
         for label, values in self.outputs.items():
-            values, unit = shown.values(label, si[label], values)
-            peak = values[np.argmax(np.abs(values))] if len(values) else float("nan")
+            values, unit = shown.values(label, si[label],
+                                        np.array([values[-1], self.peak(label)[1]]))
             unit = f" {unit}" if unit else ""
-            lines.append(f"  {label}: peak {peak:.6g}{unit}, final {values[-1]:.6g}{unit}")
+            lines.append(f"  {label}: peak {values[1]:.6g}{unit}, final {values[0]:.6g}{unit}")
         for event in self.events:
             lines.append(f"  {event}")
         s = self.stats

@@ -238,8 +238,9 @@ def test_display_units_in_summary_csv_and_plot(tmp_path):
     text = result.summary(units={"speed": "rpm", "power": "kW"})
     final_rpm = result.final(md.speed(model.mechanism.coordinates[0])) * 30 / math.pi
     assert f"speed final {final_rpm:.6g}" in text and " rpm" in text
-    peak_kw = np.max(np.abs(result["power:motor"])) / 1000
-    assert f"power:motor: peak {peak_kw:.6g} kW" in text
+    peak_time, peak_power = result.peak("power:motor")      # from the dense output
+    assert peak_power >= np.max(np.abs(result["power:motor"]))   # at least the step points'
+    assert f"power:motor: peak {peak_power / 1000:.6g} kW" in text
     assert "motor: peak 200 N*m" in text
     path = tmp_path / "run.csv"
     result.to_csv(path, units="speed=rpm,motor=kN*m")
