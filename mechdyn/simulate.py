@@ -26,8 +26,8 @@ import sympy as sp
 from scipy.optimize import brentq
 
 from .compile import SingularMassError, compile_scene
-from .elements import Link
-from .errors import ParameterError, SceneError, SimulationError
+from .errors import SceneError, SimulationError
+from .parameters import ParameterSet
 from .result import Event, Result, Trajectory
 from .scene import DEFAULT_ATOL, Scene
 from .stepping import METHODS, WITH_JACOBIAN, run_steps
@@ -48,9 +48,9 @@ def simulate(mechanism, scene: Scene, params: dict) -> Result:
     if not isinstance(scene, Scene):
         raise SceneError(f"simulate() needs a md.Scene, got {scene!r}")
     compiled = compile_scene(mechanism, scene)
-    p = compiled.parameter_vector(params)
-    _check_links(mechanism, params)
-    y0 = initial_state(compiled, mechanism, scene, params)
+    values = ParameterSet(params, mechanism=mechanism, scene=scene)
+    p = values.vector(compiled.param_names) + [0.0] * len(compiled.frictions)
+    y0 = initial_state(compiled, mechanism, scene, values.numbers)
     atol = _atol_vector(compiled, mechanism, scene)
     method = scene.method
     if method == "auto":
@@ -62,28 +62,6 @@ def simulate(mechanism, scene: Scene, params: dict) -> Result:
 
 
 # --------------------------------------------------------------------- inputs
-def _by_name(params):
-    return {str(k): v for k, v in params.items()}
-
-
-def _check_links(mechanism, params):
-    """Refuse parameter values that make a link's mass or inertia negative."""
-    values = {name: sp.Float(value) for name, value in _by_name(params).items()
-              if isinstance(value, (int, float))}
-    for link in mechanism.elements.values():
-        if not isinstance(link, Link):
-            continue
-        for attribute in ("m", "J"):
-            expr = getattr(link, attribute)
-            if expr.is_number:
-                continue                     # numbers were checked when declared
-            value = expr.xreplace({s: values[s.name] for s in expr.free_symbols
-                                   if s.name in values})
-            if value.is_number and value < 0:
-                raise ParameterError(f"link {link.name!r}: {attribute} = {expr} = {value} is "
-                                     "negative; masses and inertias must not be negative")
-
-
 def initial_state(compiled, mechanism, scene, params) -> np.ndarray:
     """The scene's initial state vector ``[q..., u...]``, checked and evaluated."""
     n = compiled.dof
