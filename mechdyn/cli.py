@@ -47,7 +47,8 @@ def _scene_inputs(args):
     scene-running command names."""
     from .model_file import load_model
     model = load_model(args.model)
-    return model, model.scene(args.scene), _params(model, args.param)
+    scene = model.scene(args.scene)
+    return model, scene, _params(model, scene, args.param)
 
 
 def _plot(figure_maker, path):
@@ -57,14 +58,13 @@ def _plot(figure_maker, path):
         print(f"wrote {path}")
 
 
-def _params(model, assignments):
-    """The model's default parameters overridden by ``name=value`` texts."""
+def _params(model, scene, assignments):
+    """The model's default parameters overridden by ``name=value`` texts, checked."""
+    from .parameters import ParameterSet
     from .parse import assignment
-    params = dict(model.params)
-    for text in assignments or ():
-        name, value = assignment(text)
-        params[model.param_symbol(name)] = value
-    return params
+    overrides = dict(assignment(text) for text in assignments or ())
+    return ParameterSet(overrides, defaults=model.params, mechanism=model.mechanism,
+                        scene=scene)
 
 
 def _simulate(args):
@@ -225,7 +225,10 @@ def _models(args):
             model = load_model(path)
         except MechdynError as error:
             broken += 1
-            print(f"{path}\n    cannot be loaded: {' '.join(str(error).split())}")
+            reason = " ".join(str(error).split())
+            if reason.startswith(str(path)):
+                reason = reason[len(str(path)):].lstrip(":, ")
+            print(f"{path}  cannot be loaded: {reason}")
             continue
         summary = " ".join(model.doc.split("\n\n")[0].split()) or model.mechanism.name
         print(f"{path}  {summary}\n    scenes: {', '.join(model.scenes) or 'none'}")

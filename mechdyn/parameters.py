@@ -192,22 +192,24 @@ class ParameterSet(Mapping):
         out = {}
         for name, value in self._raw.items():
             if isinstance(value, sp.Basic):
-                value = _exact(value).xreplace(self._exact_numbers())
+                value = exact_floats(value).xreplace(self._exact_numbers())
             elif isinstance(value, numbers.Rational):           # int, Fraction
                 value = sp.Rational(value.numerator, value.denominator)
             else:
-                value = _exact(sp.Float(self.numbers[name]))
+                value = exact_floats(sp.Float(self.numbers[name]))
             for symbol in self._symbols_named(name):
                 out[symbol] = value
         return out
 
     def substitute(self, expr):
-        """``expr`` with the numeric values put in."""
-        return sp.sympify(expr).xreplace(self.by_symbol())
+        """``expr`` with the numeric values put in (its symbols matched by name)."""
+        expr = sp.sympify(expr)
+        return expr.xreplace({s: sp.Float(self.numbers[s.name]) for s in expr.free_symbols
+                              if s.name in self.numbers})
 
     def with_values(self, values) -> ParameterSet:
         """A copy with ``values`` overriding, checked the same way."""
-        return ParameterSet(values, defaults=self._raw, mechanism=self.mechanism,
+        return ParameterSet(values, defaults=self, mechanism=self.mechanism,
                             scene=self.scene)
 
     # ---------------------------------------------------------------- internals
@@ -215,6 +217,9 @@ class ParameterSet(Mapping):
         """``{name: raw value}`` of one dict; unknown names refused when ``strict``."""
         if source is None:
             return {}
+        if isinstance(source, ParameterSet):
+            self._given.update({n: set(s) for n, s in source._given.items()})
+            source = source._raw                  # the values as given: exact ones stay
         if not isinstance(source, Mapping):
             raise ParameterError(f"parameter values must be a dict {{symbol or name: "
                                  f"value}}, got {type(source).__name__}")
@@ -258,7 +263,7 @@ class ParameterSet(Mapping):
         return sorted(free - set(self.numbers)) or sorted(names)
 
     def _exact_numbers(self) -> dict:
-        return {s: _exact(sp.Float(v)) for s, v in self.by_symbol().items()}
+        return {s: exact_floats(sp.Float(v)) for s, v in self.by_symbol().items()}
 
     def _used_by(self, names) -> str:
         users = sorted({user for name in names for user in self._usage.get(name, ())})
@@ -412,7 +417,7 @@ def _same(a, b) -> bool:
         return a is b
 
 
-def _exact(expr):
+def exact_floats(expr):
     """Floats -> exact rationals (0.6 -> 3/5); everything else unchanged."""
     return expr.xreplace({f: sp.nsimplify(f, rational=True) for f in expr.atoms(sp.Float)})
 
