@@ -278,7 +278,7 @@ class ParameterSet(Mapping):
                     if not holds(value):
                         declared = _declared(symbol, fact)
                         raise ParameterError(
-                            f"parameter {name} = {_shown(self._raw[name])} "
+                            f"parameter {name} = {value:g} "
                             f"{_violation(value, needed)}, but {name} is declared "
                             f"{declared}=True{self._used_by([name])}")
 
