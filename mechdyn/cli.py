@@ -8,9 +8,10 @@ import argparse
 import os
 import sys
 import traceback
+import warnings
 
 from . import __version__
-from .errors import MechdynError, SimulationError
+from .errors import MechdynError, MechdynWarning, SimulationError
 
 __all__ = ["main"]
 
@@ -485,6 +486,20 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv=None) -> int:
     """Run the command line; returns the exit status (see ``mechdyn --help``)."""
     args = build_parser().parse_args(argv)          # usage errors exit with 2 here
+    with warnings.catch_warnings():
+        others = warnings.showwarning
+
+        def show(message, category, *where, **more):
+            """mechdyn's own warnings as one line, ``mechdyn: warning: ...``."""
+            if issubclass(category, MechdynWarning):
+                print(f"mechdyn: warning: {message}", file=sys.stderr)
+            else:
+                others(message, category, *where, **more)
+        warnings.showwarning = show
+        return _run(args)
+
+
+def _run(args) -> int:
     try:
         _check_outputs(args)                        # before any work is done
         return args.run(args)

@@ -9,7 +9,8 @@ processes by default, a Dask cluster through ``distributed.Client(...).get_execu
 Limits and faults:
 
 - the grid may hold at most ``max_points`` points (default 1,000,000, about 1 KB of
-  memory per row), and at most ``IN_FLIGHT`` points are submitted at a time;
+  memory per row); points go to the workers in batches of about ``BATCH_SECONDS`` of
+  work, at most ``IN_FLIGHT`` batches (four per local worker) submitted at a time;
 - each finished point is appended to the ``out`` CSV file at once (see
   :mod:`mechdyn.sweep_file`: locked, and recorded so a rerun resumes only the same
   sweep); a crash or Ctrl-C loses only the points in flight;
@@ -51,7 +52,9 @@ from .sweep_file import TEXT_COLUMNS, SweepError, SweepFile, SweepFileError
 __all__ = ["sweep", "Sweep", "SweepError", "SweepFileError", "MAX_POINTS", "IN_FLIGHT"]
 
 MAX_POINTS = 1_000_000       # default bound on the grid size (max_points= raises it)
-IN_FLIGHT = 512              # points submitted and not yet collected, at most
+IN_FLIGHT = 512              # tasks submitted and not yet collected, at most
+BATCH_SECONDS = 0.05         # work per task once the cost of a point is known
+_MAX_BATCH = 64              # points per task, at most
 _PARENT_CHECK = 0.5          # s between a worker's checks that its parent still lives
 
 
@@ -255,9 +258,15 @@ def _end_with_parent(parent):
     os._exit(1)
 
 
-def _run_point(digest, blob, point):
-    """Simulate one grid point in a worker; a failure becomes the row's ``error``."""
+def _run_points(digest, blob, points):
+    """Simulate a batch of grid points in a worker: their rows, and the time taken."""
+    started = time.perf_counter()
     job = _install(digest, blob) if blob is not None else _jobs[digest]
+    return [_row(job, point) for point in points], time.perf_counter() - started
+
+
+def _row(job, point) -> dict:
+    """One grid point's row; a failure becomes the row's ``error``."""
     row = dict(zip(job.names, point))
     try:
         result = job.mechanism.simulate(job.scene, {**job.params, **row})
@@ -286,36 +295,41 @@ def _peaks(result, labels, points=1001) -> dict:
 
 
 def _run(job, todo, table, executor, bar):
-    """Submit the points at most ``IN_FLIGHT`` at a time and record each as it
-    finishes; on any interruption keep the finished ones, cancel the rest and end the
-    local workers. ``executor``: an Executor, or the number of local workers (None:
-    one per core)."""
+    """Submit the points in batches, at most ``IN_FLIGHT`` batches at a time (four per
+    local worker), and record each row as its batch finishes; on any interruption keep
+    the finished rows, cancel the rest and end the local workers. ``executor``: an
+    Executor, or the number of local workers (None: one per core)."""
     blob = pickle.dumps(job)
     digest = hashlib.sha256(blob).hexdigest()
     own = not hasattr(executor, "submit")
+    limit = IN_FLIGHT
     if own:
         count = min(len(todo), executor or os.cpu_count() or 1)
         executor = ProcessPoolExecutor(max_workers=count, initializer=_start_worker,
                                        initargs=(digest, blob))
+        limit = 4 * count
     shipped = None if own else blob               # own workers got the job at start
-    points, pending, finished = iter(todo), set(), False
+    points, pending, finished, batch = iter(todo), set(), False, _Batch()
     order = {}                          # future -> submission number: rows in grid order
     try:
         while True:
-            for point in itertools.islice(points, IN_FLIGHT - len(pending)):
-                future = executor.submit(_run_point, digest, shipped, point)
+            while len(pending) < limit:
+                points_of_batch = list(itertools.islice(points, batch.size))
+                if not points_of_batch:
+                    break
+                future = executor.submit(_run_points, digest, shipped, points_of_batch)
                 order[future] = len(order)
                 pending.add(future)
             if not pending:
                 break
             done, pending = wait(pending, return_when=FIRST_COMPLETED)
-            _collect(sorted(done, key=order.pop), table, bar)
+            _collect(sorted(done, key=order.pop), table, bar, batch)
         finished = True
     finally:
         for future in pending:
             future.cancel()
         _collect(sorted((f for f in pending if f.done() and not f.cancelled()
-                         and f.exception() is None), key=order.get), table, bar)
+                         and f.exception() is None), key=order.get), table, bar, batch)
         if bar is not None:
             bar.close()
         if own:
@@ -324,11 +338,26 @@ def _run(job, todo, table, executor, bar):
             executor.shutdown(wait=True, cancel_futures=True)
 
 
-def _collect(futures, table, bar):
+class _Batch:
+    """Points per submitted task: one at first, then as many as take about
+    ``BATCH_SECONDS``, so the cost of a task's round trip vanishes beside its work."""
+
+    def __init__(self):
+        self.size = 1
+
+    def learn(self, seconds, points):
+        per_point = max(seconds / max(points, 1), 1e-6)
+        self.size = max(1, min(_MAX_BATCH, int(BATCH_SECONDS / per_point)))
+
+
+def _collect(futures, table, bar, batch):
     for future in futures:
-        table.add(future.result())
-        if bar is not None:
-            bar.update()
+        rows, seconds = future.result()
+        batch.learn(seconds, len(rows))
+        for row in rows:
+            table.add(row)
+            if bar is not None:
+                bar.update()
 
 
 def _end_workers(executor):
