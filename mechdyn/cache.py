@@ -173,6 +173,10 @@ def _key(directory: Path, create: bool) -> bytes | None:
         problem = ""
     except _Untrusted as error:
         problem = str(error)
+    except OSError as error:
+        if error.errno != errno.ELOOP:
+            raise
+        problem = "is a symbolic link"
     if problem:
         _warn(directory, f"its key file {problem}: replaced by a new key (cached "
               "entries are rebuilt)")

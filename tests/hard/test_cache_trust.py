@@ -248,3 +248,14 @@ def test_concurrent_processes_fill_one_cache_without_damage(private_cache):
     entries = [p for p in private_cache.iterdir() if p.name.startswith("scene-")]
     assert len(entries) == 1 and cache.load(entries[0].name) is not None
     assert [p for p in private_cache.iterdir() if p.name.endswith(".tmp")] == []
+
+
+def test_a_key_that_is_a_symbolic_link_is_replaced(private_cache, tmp_path):
+    key = run_disc(uuid.uuid4().hex)
+    elsewhere = tmp_path / "their-key"
+    elsewhere.write_bytes((private_cache / "key").read_bytes())
+    (private_cache / "key").unlink()
+    (private_cache / "key").symlink_to(elsewhere)
+    with pytest.warns(CacheWarning, match="key file is a symbolic link"):
+        assert cache.load(entry(private_cache, key).name) is None
+    assert not (private_cache / "key").is_symlink()
