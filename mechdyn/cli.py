@@ -297,18 +297,24 @@ def _grid_axis(model, text, max_points):
         raise ValueTextError(f"--grid {text!r}: expected name=start:stop:count or "
                              "name=v1,v2,..., e.g. P=10:100:50")
     name = str(model.param_symbol(name.strip()))
+
+    def value(part):
+        try:
+            return number(part)
+        except ValueTextError as error:
+            raise ValueTextError(f"--grid {text!r}: {name}: {error}") from None
     if ":" in values:
         parts = values.split(":")
         if len(parts) != 3:
             raise ValueTextError(f"--grid {text!r}: expected start:stop:count")
-        start, stop, count = (number(part) for part in parts)
+        start, stop, count = (value(part) for part in parts)
         if count != int(count) or count < 1:
             raise ValueTextError(f"--grid {text!r}: count must be a whole number >= 1")
         if count > max_points:
             raise ValueTextError(f"--grid {text!r}: {count:,.0f} values, more than "
                                  f"--max-points {max_points:,}")
         return name, list(np.linspace(start, stop, int(count)))
-    return name, [number(value) for value in values.split(",")]
+    return name, [value(part) for part in values.split(",")]
 
 
 def _sweep(args):

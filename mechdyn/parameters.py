@@ -123,8 +123,9 @@ class ParameterSet(Mapping):
     scene : Scene, optional
         Adds the parameters of its initial values, stop conditions and outputs.
 
-    The mapping holds every resolved value by name: floats, or sympy expressions where
-    a value is an expression of symbols without a value (kept for closed forms).
+    The mapping holds every resolved value by name: ``numbers`` (name -> float) and
+    ``symbolic`` (name -> sympy expression of symbols without a value, kept for the
+    closed forms).
     """
 
     def __init__(self, values=None, defaults=None, *, mechanism=None, scene=None):
@@ -207,11 +208,6 @@ class ParameterSet(Mapping):
         return expr.xreplace({s: sp.Float(self.numbers[s.name]) for s in expr.free_symbols
                               if s.name in self.numbers})
 
-    def with_values(self, values) -> ParameterSet:
-        """A copy with ``values`` overriding, checked the same way."""
-        return ParameterSet(values, defaults=self, mechanism=self.mechanism,
-                            scene=self.scene)
-
     # ---------------------------------------------------------------- internals
     def _named(self, source, strict) -> dict:
         """``{name: raw value}`` of one dict; unknown names refused when ``strict``."""
@@ -293,11 +289,11 @@ class ParameterSet(Mapping):
                 number = self.numbers[expr.name]
             else:
                 values = values or {s: sp.Float(v) for s, v in self.by_symbol().items()}
-                number = complex(expr.xreplace(values))
-                if number.imag != 0:
-                    raise ParameterError(f"{label}: {attribute} = {expr} is not real with "
-                                         f"{_values_text(names, self.numbers)}")
-                number = number.real
+                number = _real(expr.xreplace(values))
+                if number is None:
+                    raise ParameterError(f"parameter {', '.join(sorted(names))}: {label}: "
+                                         f"{attribute} = {expr} is not a finite real number "
+                                         f"with {_values_text(names, self.numbers)}")
             if rule == "efficiency":
                 fault = None if 0 < number <= 1 else "lies outside (0, 1]"
             else:
@@ -408,6 +404,17 @@ def _resolve(raw) -> tuple:
                 del pending[name]
                 progress = True
     return numbers_, pending
+
+
+def _real(value):
+    """A sympy number as a float, or None if it is not finite and real."""
+    try:
+        number = complex(value)
+    except (TypeError, ValueError):
+        return None
+    if number.imag != 0 or not math.isfinite(number.real):
+        return None
+    return number.real
 
 
 def _same(a, b) -> bool:

@@ -149,7 +149,22 @@ def counted(value):
     return lambda: mech.simulate(RUN, {J: 1, M: 1, n: value})
 
 
+def inertia_of(expression, values):
+    """A link whose inertia is an expression of parameters a, b."""
+    mech = md.Mechanism("rotor", [phi])
+    mech.link("rotor", J=expression, angle=phi)
+    return lambda: mech.simulate(RUN, values)
+
+
+a, b = sp.symbols("a b")
+
 SECOND_ROUND = [
+    (inertia_of(1 / (a - b), {"a": 1, "b": 1}), md.ParameterError,
+     "parameter a, b: link 'rotor': J = 1/(a - b) is not a finite real number with a = 1"),
+    (inertia_of(sp.sqrt(a), {"a": -1}), md.ParameterError,
+     "link 'rotor': J = sqrt(a) is not a finite real number with a = -1"),
+    (inertia_of(a - b, {"a": 1, "b": 2}), md.ParameterError,
+     "link 'rotor': J = a - b = -1 is negative with a = 1, b = 2"),
     (efficiency_zero_declared, md.DeclarationError, "load 'lift': efficiency"),
     (efficiency_parameter(0), md.ParameterError, "parameter eta = 0 is zero"),
     (efficiency_parameter(1.5), md.ParameterError, "load 'lift': efficiency = eta lies "
