@@ -58,11 +58,14 @@ def cache_dir() -> Path | None:
     setting = os.environ.get("MECHDYN_CACHE", "")
     if setting.lower() in _DISABLED:
         return None
-    if setting:
-        directory = Path(setting).expanduser()
-    else:
-        base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
-        directory = Path(base) / "mechdyn"
+    try:
+        if setting:
+            directory = Path(setting).expanduser()
+        else:
+            base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
+            directory = Path(base) / "mechdyn"
+    except (RuntimeError, KeyError):           # no home directory to expand
+        return _refuse(Path(setting or "~/.cache/mechdyn"), "there is no home directory")
     try:
         directory.mkdir(mode=0o700, parents=True, exist_ok=True)
         info = os.stat(directory)

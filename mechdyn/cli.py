@@ -451,7 +451,8 @@ _EXIT_CODES = """exit status:
   0  success
   1  a simulation failed (integration error; in a sweep: at least one point failed)
   2  usage or input error: bad option, model file, scene, parameter or value
-  3  internal error (a bug in mechdyn: rerun with --debug and report the traceback)"""
+  3  internal error (a bug in mechdyn: rerun with --debug and report the traceback)
+  130  interrupted (Ctrl-C); a sweep keeps its finished rows and resumes"""
 
 
 class _Formatter(argparse.RawDescriptionHelpFormatter):

@@ -259,3 +259,16 @@ def test_a_key_that_is_a_symbolic_link_is_replaced(private_cache, tmp_path):
     with pytest.warns(CacheWarning, match="key file is a symbolic link"):
         assert cache.load(entry(private_cache, key).name) is None
     assert not (private_cache / "key").is_symlink()
+
+
+@pytest.mark.parametrize("name", ["", ".hidden", "key", "a/b", "..", "x\0y"])
+def test_entry_names_are_plain_file_names(private_cache, name):
+    with pytest.raises(ValueError, match="plain file name"):
+        cache.store_bytes(name, b"data")
+
+
+def test_other_artifacts_round_trip_as_authenticated_bytes(private_cache):
+    blob = os.urandom(1000)
+    assert cache.store_bytes("warm-start.bin", blob)
+    assert cache.load_bytes("warm-start.bin") == blob
+    assert cache.load_bytes("other.bin") is None
