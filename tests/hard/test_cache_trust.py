@@ -235,11 +235,12 @@ def test_a_read_only_directory_degrades_to_no_disk_cache(private_cache):
         private_cache.chmod(0o700)
 
 
+@pytest.mark.slow
 def test_concurrent_processes_fill_one_cache_without_damage(private_cache):
     """Three processes compile the same scene into an empty cache at once: all succeed,
     the entry is authentic, no temporary file is left."""
     command = [sys.executable, "-m", "mechdyn.cli", "simulate",
-               str(ROOT / "models" / "two_mass_drive.py"), "--scene", "start"]
+               str(ROOT / "models" / "shoe_brake.py"), "--scene", "braking"]
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     runs = [subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                              text=True, env=env) for _ in range(3)]
