@@ -30,43 +30,18 @@ mechdyn.errors.ParameterError: parameter P = -20 is negative, but P is declared 
 from __future__ import annotations
 
 import difflib
-import functools
 import math
 import numbers
-import weakref
 from collections.abc import Mapping
 
 import sympy as sp
 from sympy.core.function import AppliedUndef
 
-from .elements import Damper, Friction, Link, Load, Spring
-from .errors import DeclarationError, MechdynError, ParameterError
+from .errors import MechdynError, ParameterError
+from .parameter_rules import MechanismFacts, check_values, facts_of, scene_symbols
 from .symbols import t
 
 __all__ = ["ParameterSet", "to_number"]
-
-# Assumptions a value is checked against: fact -> (test on the float, what it must be).
-_FACTS = {
-    "positive": (lambda v: v > 0, "positive"),
-    "nonnegative": (lambda v: v >= 0, "zero or positive"),
-    "negative": (lambda v: v < 0, "negative"),
-    "nonpositive": (lambda v: v <= 0, "zero or negative"),
-    "nonzero": (lambda v: v != 0, "non-zero"),
-    "zero": (lambda v: v == 0, "zero"),
-    "integer": (lambda v: v == int(v), "a whole number"),
-    "even": (lambda v: v == int(v) and int(v) % 2 == 0, "an even number"),
-    "odd": (lambda v: v == int(v) and int(v) % 2 == 1, "an odd number"),
-}
-# What the elements need of their constant attributes: (type, attribute) -> rule.
-_ROLES = {
-    (Link, "m"): ("nonnegative", "masses and inertias must not be negative"),
-    (Link, "J"): ("nonnegative", "masses and inertias must not be negative"),
-    (Spring, "k"): ("nonnegative", "a stiffness must not be negative"),
-    (Damper, "c"): ("nonnegative", "a damping coefficient must not be negative"),
-    (Friction, "moment"): ("nonnegative", "a friction magnitude must not be negative"),
-    (Load, "efficiency"): ("efficiency", "an efficiency must lie in (0, 1]"),
-}
-
 
 def to_number(name: str, value) -> float:
     """The float value of parameter ``name``: the one place where a given value becomes
@@ -130,11 +105,10 @@ class ParameterSet(Mapping):
 
     def __init__(self, values=None, defaults=None, *, mechanism=None, scene=None):
         self.mechanism, self.scene = mechanism, scene
-        facts = _facts(mechanism) if mechanism is not None else _Facts()
+        facts = facts_of(mechanism) if mechanism is not None else MechanismFacts()
         self._symbols = dict(facts.symbols)
-        self._usage = facts.usage
         if scene is not None:
-            for symbol in _scene_symbols(scene):
+            for symbol in scene_symbols(scene):
                 self._symbols.setdefault(symbol.name, symbol)
         raw, self._given = {}, {}
         for source, strict in ((defaults, False), (values, mechanism is not None)):
@@ -142,8 +116,7 @@ class ParameterSet(Mapping):
         self._raw = raw
         self.numbers, self.symbolic = _resolve(raw)
         if mechanism is not None:
-            self._check_assumptions()
-            self._check_roles(facts.roles)
+            check_values(facts, self.numbers, self._symbols_named)
 
     # ------------------------------------------------------------------ mapping
     def __getitem__(self, name):
@@ -261,115 +234,14 @@ class ParameterSet(Mapping):
     def _exact_numbers(self) -> dict:
         return {s: exact_floats(sp.Float(v)) for s, v in self.by_symbol().items()}
 
-    def _used_by(self, names) -> str:
-        users = sorted({user for name in names for user in self._usage.get(name, ())})
-        return f" (used by {', '.join(users)})" if users else ""
-
-    def _check_assumptions(self):
-        """Each value against the declared assumptions of its symbols."""
-        for name, value in self.numbers.items():
-            for symbol in self._symbols_named(name):
-                for fact in _true_facts(symbol):
-                    holds, needed = _FACTS[fact]
-                    if not holds(value):
-                        declared = _declared(symbol, fact)
-                        raise ParameterError(
-                            f"parameter {name} = {value:g} "
-                            f"{_violation(value, needed)}, but {name} is declared "
-                            f"{declared}=True{self._used_by([name])}")
-
-    def _check_roles(self, roles):
-        """The constant attributes of elements (link m and J, spring k, damper c,
-        friction magnitude, efficiency) with the values put in."""
-        values = None
-        for label, attribute, expr, names, (rule, why) in roles:
-            if not names <= self.numbers.keys():
-                continue
-            if expr.is_Symbol:
-                number = self.numbers[expr.name]
-            else:
-                values = values or {s: sp.Float(v) for s, v in self.by_symbol().items()}
-                number = _real(expr.xreplace(values))
-                if number is None:
-                    raise ParameterError(f"parameter {', '.join(sorted(names))}: {label}: "
-                                         f"{attribute} = {expr} is not a finite real number "
-                                         f"with {_values_text(names, self.numbers)}")
-            if rule == "efficiency":
-                fault = None if 0 < number <= 1 else "lies outside (0, 1]"
-            else:
-                fault = None if number >= 0 else "is negative"
-            if fault:
-                where = "" if expr.is_Symbol else f" = {number:.6g}"
-                raise ParameterError(
-                    f"parameter {', '.join(sorted(names))}: {label}: {attribute} = {expr}"
-                    f"{where} {fault} with {_values_text(names, self.numbers)}; {why}")
-
-
-# ------------------------------------------------------------------ mechanism facts
-class _Facts:
-    """What a mechanism says about its parameters: symbols by name, the elements using
-    each, and the element attributes with a sign rule."""
-
-    def __init__(self, mechanism=None):
-        self.symbols, self.usage, self.roles = {}, {}, []
-        if mechanism is None:
-            return
-        for element in mechanism.elements.values():
-            label = f"{type(element).__name__.lower()} {element.name!r}"
-            for attribute, expr in element.expressions().items():
-                free = expr.free_symbols - {t}
-                for symbol in free:
-                    other = self.symbols.setdefault(symbol.name, symbol)
-                    if other != symbol:
-                        raise DeclarationError(
-                            f"{mechanism.name!r}: two different parameters are named "
-                            f"{symbol.name!r} (their assumptions differ: "
-                            f"{_assumption_text(other)} and {_assumption_text(symbol)}); "
-                            "declare each parameter once and reuse its symbol")
-                    self.usage.setdefault(symbol.name, set()).add(label)
-                rule = _ROLES.get((type(element), attribute))
-                if rule and free and not expr.has(AppliedUndef, sp.Derivative, t):
-                    self.roles.append((label, attribute, expr, {s.name for s in free}, rule))
-
-
-_facts_cache: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
-
-
-def _facts(mechanism) -> _Facts:
-    """The mechanism's :class:`_Facts`, remembered while its elements stay the same."""
-    signature = tuple(map(id, mechanism.elements.values()))
-    cached = _facts_cache.get(mechanism)
-    if cached is None or cached[0] != signature:
-        cached = (signature, _Facts(mechanism))
-        _facts_cache[mechanism] = cached
-    return cached[1]
-
-
-@functools.lru_cache(maxsize=4096)
-def _true_facts(symbol) -> tuple:
-    """The checked assumptions (see ``_FACTS``) that hold for ``symbol``."""
-    assumed = symbol.assumptions0
-    return tuple(fact for fact in _FACTS if assumed.get(fact))
-
-
-def _scene_symbols(scene) -> set:
-    exprs = [v for v in scene.initial.values() if isinstance(v, sp.Basic)]
-    for condition in scene.until:
-        exprs += [condition.expression, condition.value]
-    exprs += [o for o in scene.outputs if isinstance(o, sp.Basic)]
-    return set().union(*(e.free_symbols for e in exprs)) - {t}
-
-
 # -------------------------------------------------------------------- resolution
 def _key_name(key) -> str:
     if isinstance(key, sp.Symbol):
         return key.name
     if isinstance(key, str) and key.strip():
         return key.strip()
-    what = "a coordinate" if isinstance(key, AppliedUndef) else repr(key)
-    raise ParameterError(f"parameter key {key!r} is {what}, not a parameter symbol or name"
-                         if what != repr(key) else
-                         f"parameter key {key!r} is not a parameter symbol or name")
+    kind = "a coordinate, " if isinstance(key, AppliedUndef) else ""
+    raise ParameterError(f"parameter key {key!r} is {kind}not a parameter symbol or name")
 
 
 def _resolve(raw) -> tuple:
@@ -406,17 +278,6 @@ def _resolve(raw) -> tuple:
     return numbers_, pending
 
 
-def _real(value):
-    """A sympy number as a float, or None if it is not finite and real."""
-    try:
-        number = complex(value)
-    except (TypeError, ValueError):
-        return None
-    if number.imag != 0 or not math.isfinite(number.real):
-        return None
-    return number.real
-
-
 def _same(a, b) -> bool:
     try:
         return bool(a == b)
@@ -437,31 +298,3 @@ def _shown(value) -> str:
     text = repr(value) if isinstance(value, (str, list, tuple, dict, type(None))) \
         else str(value)
     return text if len(text) <= 40 else text[:37] + "..."
-
-
-def _violation(value, needed) -> str:
-    if needed in ("positive", "zero or positive") and value < 0:
-        return "is negative"
-    if value == 0 and needed in ("positive", "negative", "non-zero"):
-        return "is zero"
-    return f"is not {needed}"
-
-
-def _declared(symbol, fact) -> str:
-    """The assumption as the user declared it (``positive`` for a positive symbol's
-    implied ``nonnegative``)."""
-    original = getattr(symbol, "_assumptions_orig", None) or {}
-    for given in original:
-        if original[given] and sp.Symbol("x", **{given: True}).assumptions0.get(fact):
-            return given
-    return fact
-
-
-def _assumption_text(symbol) -> str:
-    original = getattr(symbol, "_assumptions_orig", None) or {}
-    given = [f"{k}={v}" for k, v in original.items()]
-    return f"{symbol.name}({', '.join(given)})" if given else f"{symbol.name}()"
-
-
-def _values_text(names, values) -> str:
-    return ", ".join(f"{n} = {values[n]:g}" for n in sorted(names))
