@@ -10,6 +10,7 @@
    ``mechdyn simulate`` process cold (empty cache) and warm (cache hit).
 4. Method selection: per bundled scene, the fastest solve_ivp method meeting each target
    error (``md.work_precision``), next to what ``method="auto"`` achieves.
+5. Sweeps: benchmarks/sweep.py (cost per point against a plain loop over simulate).
 
 All ratios in RESULTS.md come from this one run. Times are minima over repeats; the
 machine is shared, so absolute times carry its load (noted in the header).
@@ -213,6 +214,10 @@ def main(argv=None):
                   "'-': no run meets it or the target is below the reference agreement). "
                   "Last column: what method=\"auto\" picks and how much slower it is.", "",
                   method_table(args.repeats), ""]
+    print("sweeps ...", flush=True)
+    import sweep as sweep_bench
+    parts += ["## Sweeps against a plain loop (benchmarks/sweep.py)", "",
+              sweep_bench.report(sweep_bench.main(["--repeats", str(args.repeats)]), 200), ""]
     parts += [f"Skipped (model file did not load): {name}: {why}"
               for name, why in dict(SKIPPED).items()]
     (HERE / "RESULTS.md").write_text("\n".join(parts))

@@ -14,8 +14,8 @@ from importlib import import_module
 
 from . import motors
 from .elements import Damper, Friction, Gravity, Link, Load, Spring
-from .errors import (DeclarationError, DerivationError, MechdynError, ParameterError,
-                     SceneError, SimulationError)
+from .errors import (DeclarationError, DerivationError, MechdynError, MechdynWarning,
+                     ParameterError, SceneError, SimulationError)
 from .mechanism import Mechanism
 from .model_file import Model, load_model
 from .scene import Scene, reaches, stopped
@@ -46,7 +46,7 @@ __all__ = [
     "motors", "Mechanism", "Link", "Load", "Spring", "Damper", "Gravity", "Friction",
     "Scene", "stopped", "reaches", "Model", "load_model",
     "t", "coordinate", "coordinates", "speed", "acceleration", "plain",
-    "MechdynError", "DeclarationError", "DerivationError", "SceneError",
+    "MechdynError", "MechdynWarning", "DeclarationError", "DerivationError", "SceneError",
     "ParameterError", "SimulationError",
     *_LAZY, *_LAZY_MODULES,
 ]

@@ -34,6 +34,8 @@ from scipy.optimize import minimize_scalar
 from .elements import as_expression
 from .errors import MechdynError, ParameterError, SceneError
 from .latex import presentable, readable
+from .parameters import ParameterSet
+from .parameters import exact_floats as _exact
 from .symbols import t
 
 __all__ = ["AnalyticError", "Classification", "classify", "StopPoint", "Solution",
@@ -66,18 +68,9 @@ class _Problem:
         return {"t": t, "phi": self.q, "omega": self.u}[name]
 
 
-def _exact(expr):
-    """Floats -> exact rationals (0.6 -> 3/5); everything else unchanged."""
-    return expr.xreplace({f: sp.nsimplify(f, rational=True) for f in expr.atoms(sp.Float)})
-
-
-def _substitution(params):
-    subs = {}
-    for symbol, value in (params or {}).items():
-        if not isinstance(symbol, sp.Symbol):
-            raise ParameterError(f"parameter keys must be sympy symbols, got {symbol!r}")
-        subs[symbol] = _exact(as_expression(value, f"parameter {symbol}"))
-    return subs
+def _substitution(mech, scene, params):
+    """Exact values of the given parameters (keys: symbols or names) by symbol."""
+    return ParameterSet(params, mechanism=mech, scene=scene).exact()
 
 
 def _one_dof(mech, scene, what):
@@ -105,7 +98,7 @@ def _fix_friction_sign(moment, q, u, direction):
 def _reduced(mech, scene, params, what, drive=None):
     """Equations, parameter substitution, exact I_red and M_red (without ``drive``)."""
     eqs = _one_dof(mech, scene, what)
-    subs = _substitution(params)
+    subs = _substitution(mech, scene, params)
     moment = eqs.reduced_moment
     if drive is not None:
         left_out = [n for n in eqs.generalized_forces
@@ -628,7 +621,7 @@ def closed_form(mech, scene, params=None) -> Solution:
         relations, quadrature, notes = _speed_path(problem)
     else:
         relations, quadrature, notes = _time_path(problem)
-    conditions = _conditions(problem, eqs, scene, _substitution(params))
+    conditions = _conditions(problem, eqs, scene, _substitution(mech, scene, params))
     stop, stop_notes = _stop(problem, relations, quadrature, conditions, scene.time_limit)
     if problem.friction:
         notes += ("friction sign taken from the initial speed; valid while sliding",)

@@ -8,9 +8,10 @@ import argparse
 import os
 import sys
 import traceback
+import warnings
 
 from . import __version__
-from .errors import MechdynError, SimulationError
+from .errors import MechdynError, MechdynWarning, SimulationError
 
 __all__ = ["main"]
 
@@ -47,7 +48,8 @@ def _scene_inputs(args):
     scene-running command names."""
     from .model_file import load_model
     model = load_model(args.model)
-    return model, model.scene(args.scene), _params(model, args.param)
+    scene = model.scene(args.scene)
+    return model, scene, _params(model, scene, args.param)
 
 
 def _plot(figure_maker, path):
@@ -57,20 +59,14 @@ def _plot(figure_maker, path):
         print(f"wrote {path}")
 
 
-def _params(model, assignments):
+def _params(model, scene, assignments):
     """The model's default parameters overridden by ``name=value`` texts (a value may
     carry a unit: ``P=2 kN``, checked against the parameter's declared unit)."""
-    from .parse import named_value
-    from .units import UnitError, to_si
-    params = dict(model.params)
-    for text in assignments or ():
-        name, value = named_value(text)
-        symbol = model.param_symbol(name)
-        try:
-            params[symbol] = to_si(value, model.mechanism.parameter_units.get(name))
-        except UnitError as error:
-            raise UnitError(f"--param {name}: {error}") from None
-    return params
+    from .parameters import ParameterSet
+    from .parse import assignment
+    overrides = dict(assignment(text) for text in assignments or ())
+    return ParameterSet(overrides, defaults=model.params, mechanism=model.mechanism,
+                        scene=scene)
 
 
 def _simulate(args):
@@ -237,7 +233,10 @@ def _models(args):
             model = load_model(path)
         except MechdynError as error:
             broken += 1
-            print(f"{path}\n    cannot be loaded: {' '.join(str(error).split())}")
+            reason = " ".join(str(error).split())
+            if reason.startswith(str(path)):
+                reason = reason[len(str(path)):].lstrip(":, ")
+            print(f"{path}  cannot be loaded: {reason}")
             continue
         summary = " ".join(model.doc.split("\n\n")[0].split()) or model.mechanism.name
         print(f"{path}  {summary}\n    scenes: {', '.join(model.scenes) or 'none'}")
@@ -294,8 +293,9 @@ def _add_report_command(commands):
     report.set_defaults(run=_report)
 
 
-def _grid_axis(model, text):
-    """``name=start:stop:count`` (evenly spaced) or ``name=v1,v2,...`` -> (name, values)."""
+def _grid_axis(model, text, max_points):
+    """``name=start:stop:count`` (evenly spaced) or ``name=v1,v2,...`` -> (name, values);
+    a count above ``max_points`` is refused before any value is made."""
     import numpy as np
 
     from .parse import ValueTextError, number
@@ -304,15 +304,24 @@ def _grid_axis(model, text):
         raise ValueTextError(f"--grid {text!r}: expected name=start:stop:count or "
                              "name=v1,v2,..., e.g. P=10:100:50")
     name = str(model.param_symbol(name.strip()))
+
+    def value(part):
+        try:
+            return number(part)
+        except ValueTextError as error:
+            raise ValueTextError(f"--grid {text!r}: {name}: {error}") from None
     if ":" in values:
         parts = values.split(":")
         if len(parts) != 3:
             raise ValueTextError(f"--grid {text!r}: expected start:stop:count")
-        start, stop, count = (number(part) for part in parts)
+        start, stop, count = (value(part) for part in parts)
         if count != int(count) or count < 1:
             raise ValueTextError(f"--grid {text!r}: count must be a whole number >= 1")
+        if count > max_points:
+            raise ValueTextError(f"--grid {text!r}: {count:,.0f} values, more than "
+                                 f"--max-points {max_points:,}")
         return name, list(np.linspace(start, stop, int(count)))
-    return name, [number(value) for value in values.split(",")]
+    return name, [value(part) for part in values.split(",")]
 
 
 def _sweep(args):
@@ -320,15 +329,14 @@ def _sweep(args):
 
     from .sweeps import sweep
     model, scene, params = _scene_inputs(args)
-    grid = dict(_grid_axis(model, text) for text in args.grid)
+    grid = dict(_grid_axis(model, text, args.max_points) for text in args.grid)
     with ExitStack() as stack:
         executor = None
         if args.dask:
             executor = stack.enter_context(_dask_client(args.dask)).get_executor()
-        elif args.workers:
-            from concurrent.futures import ProcessPoolExecutor
-            executor = stack.enter_context(ProcessPoolExecutor(args.workers))
-        table = sweep(model.mechanism, scene, params, grid, executor, out=args.out)
+        table = sweep(model.mechanism, scene, params, grid, executor, out=args.out,
+                      workers=args.workers, max_points=args.max_points, fresh=args.fresh,
+                      wait=args.wait)
     y = args.y or table.default_y
     if y not in table.columns:
         raise MechdynError(f"--y {y!r}: not a column ({', '.join(table.columns)})")
@@ -360,6 +368,7 @@ def _dask_client(address):
 
 
 def _add_sweep_command(commands):
+    from .sweeps import MAX_POINTS
     sweep = commands.add_parser(
         "sweep", help="simulate a scene over a grid of parameter values",
         description="Simulate a scene at every point of a parameter grid (all combinations "
@@ -384,12 +393,20 @@ def _add_sweep_command(commands):
                        "repeatable (full factorial)")
     _param_argument(sweep)
     where = sweep.add_mutually_exclusive_group()
-    where.add_argument("--workers", type=int, metavar="N",
+    where.add_argument("--workers", type=_whole_number, metavar="N",
                        help="local worker processes (default: all cores)")
     where.add_argument("--dask", metavar="ADDRESS",
                        help="run on a Dask cluster, e.g. tcp://host:8786 (needs mechdyn[dask])")
     sweep.add_argument("--out", metavar="FILE.csv", help="stream the rows to this file "
-                       "(an existing file of the same sweep is resumed)")
+                       "(an existing file of the same sweep is resumed; FILE.csv.meta.json "
+                       "records the sweep, FILE.csv.lock keeps other sweeps out)")
+    sweep.add_argument("--fresh", action="store_true",
+                       help="discard the rows of an existing --out file instead of resuming")
+    sweep.add_argument("--wait", type=_seconds, default=0.0, metavar="SECONDS",
+                       help="wait this long for another sweep writing --out (default: "
+                       "stop at once)")
+    sweep.add_argument("--max-points", type=_whole_number, default=MAX_POINTS, metavar="N",
+                       help=f"refuse grids with more points (default {MAX_POINTS:,})")
     sweep.add_argument("--plot", metavar="FILE.png",
                        help="plot --y against the first swept parameter")
     sweep.add_argument("--y", metavar="COLUMN", help="the column to show and plot "
@@ -402,7 +419,7 @@ def _characteristic(args):
     from .model_file import load_model
     model = load_model(args.model)
     scene = model.scene(args.scene) if args.scene else None
-    curves = characteristic(model.mechanism, scene, _params(model, args.param),
+    curves = characteristic(model.mechanism, scene, _params(model, scene, args.param),
                             drive=args.drive)
     print(curves.summary(args.units))
     if args.plot:
@@ -466,6 +483,28 @@ def _add_animate_command(commands):
 
 
 # ------------------------------------------------------------- shared options
+def _seconds(text):
+    """An argparse type: a finite time >= 0 in seconds."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = -1.0
+    if not 0 <= value < float("inf"):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a time in seconds >= 0")
+    return value
+
+
+def _whole_number(text):
+    """An argparse type: a whole number >= 1."""
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number >= 1")
+    return value
+
+
 def _model_argument(parser):
     parser.add_argument("model", help="model file (defines mechanism, params, scenes); "
                         "`mechdyn models` lists them")
@@ -508,7 +547,8 @@ _EXIT_CODES = """exit status:
   0  success
   1  a simulation failed (integration error; in a sweep: at least one point failed)
   2  usage or input error: bad option, model file, scene, parameter or value
-  3  internal error (a bug in mechdyn: rerun with --debug and report the traceback)"""
+  3  internal error (a bug in mechdyn: rerun with --debug and report the traceback)
+  130  interrupted (Ctrl-C); a sweep keeps its finished rows and resumes"""
 
 
 class _Formatter(argparse.RawDescriptionHelpFormatter):
@@ -551,7 +591,22 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv=None) -> int:
     """Run the command line; returns the exit status (see ``mechdyn --help``)."""
     args = build_parser().parse_args(argv)          # usage errors exit with 2 here
+    with warnings.catch_warnings():
+        others = warnings.showwarning
+
+        def show(message, category, *where, **more):
+            """mechdyn's own warnings as one line, ``mechdyn: warning: ...``."""
+            if issubclass(category, MechdynWarning):
+                print(f"mechdyn: warning: {message}", file=sys.stderr)
+            else:
+                others(message, category, *where, **more)
+        warnings.showwarning = show
+        return _run(args)
+
+
+def _run(args) -> int:
     try:
+        _check_outputs(args)                        # before any work is done
         return args.run(args)
     except BrokenPipeError:              # output piped into e.g. `head`: not an error
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
@@ -567,6 +622,39 @@ def main(argv=None) -> int:
         hint = "" if args.debug or status != EXIT_BUG else " (rerun with --debug for the traceback)"
         print(f"mechdyn: {prefix}{message}{hint}", file=sys.stderr)
         return status
+
+
+# Files a command writes: option -> (attribute, suffixes it can write, what it is).
+_PLOT_SUFFIXES = (".png", ".pdf", ".svg", ".svgz", ".eps", ".ps", ".jpg", ".jpeg", ".tif",
+                  ".tiff", ".webp", ".pgf")
+_OUTPUTS = {"--plot": ("plot", _PLOT_SUFFIXES, "a figure"),
+            "--csv": ("csv", (".csv", ".txt"), "a CSV file"),
+            "--out": ("out", (".csv", ".txt"), "a CSV file"),
+            "-o": ("output", (".html", ".htm"), "an HTML page")}
+
+
+def _check_outputs(args):
+    """Refuse output files that could not be written, before anything is computed: an
+    unsupported suffix, a missing folder, a folder in the file's place, plots without
+    matplotlib."""
+    from importlib.util import find_spec
+    from pathlib import Path
+    for option, (attribute, suffixes, what) in _OUTPUTS.items():
+        value = getattr(args, attribute, None)
+        if not value:
+            continue
+        path = Path(value)
+        if path.suffix.lower() not in suffixes:
+            suffix = f"the suffix {path.suffix!r}" if path.suffix else "no suffix"
+            raise MechdynError(f"{option} {value}: cannot write {what} with {suffix}; "
+                               f"use one of {', '.join(suffixes)}")
+        if path.is_dir():
+            raise MechdynError(f"{option} {value}: is a folder; give a file name")
+        folder = path.parent if str(path.parent) else Path(".")
+        if not folder.is_dir():
+            raise MechdynError(f"{option} {value}: no folder {folder}")
+        if attribute == "plot" and find_spec("matplotlib") is None:
+            raise MechdynError("--plot needs matplotlib: pip install 'mechdyn[plot]'")
 
 
 def _classify(error):

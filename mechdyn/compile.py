@@ -8,10 +8,11 @@ docstring stating these orders; :class:`CompiledScene` calls them from Python.
 ``M(q) a = f`` is solved numerically (unrolled Cholesky in the generated code), never
 symbolically.
 
-A compiled scene is cached in memory and on disk (``$MECHDYN_CACHE``, default
-``~/.cache/mechdyn``; ``MECHDYN_CACHE=off`` disables the disk), keyed by a hash of the
-mechanism's declaration and the scene's effects, rigid springs, stop conditions and
-outputs: a second run of the same model skips derivation and compilation.
+A compiled scene is cached in memory and on disk (:mod:`mechdyn.cache`: a private
+directory of authenticated entries, ``$MECHDYN_CACHE``, default ``~/.cache/mechdyn``;
+``MECHDYN_CACHE=off`` disables the disk), keyed by a hash of the mechanism's declaration
+and the scene's effects, rigid springs, stop conditions and outputs: a second run of the
+same model skips derivation and compilation.
 
 >>> import mechdyn as md
 >>> phi = md.coordinate("phi")
@@ -26,15 +27,13 @@ outputs: a second run of the same model skips derivation and compilation.
 from __future__ import annotations
 
 import hashlib
-import json
 import math
-import os
 from pathlib import Path
 
 import numpy as np
 import sympy as sp
 
-from . import __version__
+from . import __version__, cache
 from .codegen import compile_source
 from .errors import ParameterError, SimulationError
 from .generate import generate
@@ -207,16 +206,6 @@ def _jac_assemble(flat, n, out):
 
 
 # ------------------------------------------------------------------------- caching
-def _cache_dir():
-    setting = os.environ.get("MECHDYN_CACHE", "")
-    if setting.lower() in ("off", "0", "no", "false"):
-        return None
-    if setting:
-        return Path(setting)
-    base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
-    return Path(base) / "mechdyn"
-
-
 def _generator_hash() -> str:
     """A hash of the modules that shape generated code, so editing them voids the cache."""
     here = Path(__file__).parent
@@ -252,29 +241,18 @@ def compile_scene(mechanism, scene) -> CompiledScene:
     key = declaration_key(mechanism, scene)
     if key in _memory_cache:
         return _memory_cache[key]
-    directory = _cache_dir()
-    path = directory / f"{key}.json" if directory else None
+    stored = cache.load(f"scene-{key}.json")      # authenticated, else None
     compiled = None
-    if path is not None and path.is_file():
+    if stored is not None:
         try:
-            stored = json.loads(path.read_text())
             compiled = CompiledScene(stored["meta"], stored["source"], key)
-        except (OSError, ValueError, KeyError, SyntaxError):
-            compiled = None          # a damaged entry is rebuilt below
+        except Exception:            # authentic but malformed: rebuilt and overwritten
+            compiled = None
     if compiled is None:
         meta, source = generate(mechanism.equations(scene), scene, mechanism.elements)
         compiled = CompiledScene(meta, source, key)
-        if path is not None:
-            _store(path, {"meta": meta, "source": source})
+        cache.store(f"scene-{key}.json", {"meta": meta, "source": source})
     _memory_cache[key] = compiled
     return compiled
 
 
-def _store(path: Path, data: dict):
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        temporary = path.with_suffix(f".{os.getpid()}.tmp")
-        temporary.write_text(json.dumps(data))
-        temporary.replace(path)
-    except OSError:
-        pass                         # a read-only home only costs the warm start

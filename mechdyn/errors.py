@@ -1,14 +1,20 @@
 """The errors mechdyn raises; each message names the culprit (element, parameter, state).
 
-All derive from :class:`MechdynError`, so a script can catch them in one place.
+The errors of this module, and those other modules define (``ModelFileError``,
+``AnalyticError``, ...), derive from :class:`MechdynError`, so a script can catch them
+in one place. Warnings derive from :class:`MechdynWarning`.
 """
 
-__all__ = ["MechdynError", "DeclarationError", "DerivationError", "SceneError",
+__all__ = ["MechdynError", "MechdynWarning", "DeclarationError", "DerivationError", "SceneError",
            "ParameterError", "SimulationError"]
 
 
 class MechdynError(Exception):
     """Base class of every mechdyn error."""
+
+
+class MechdynWarning(UserWarning):
+    """Base class of mechdyn's warnings (e.g. a cache directory that is not used)."""
 
 
 class DeclarationError(MechdynError, ValueError):

@@ -45,6 +45,7 @@ from scipy.optimize import brentq, minimize_scalar
 
 from .compile import compile_scene
 from .errors import SceneError
+from .parameters import ParameterSet
 from .periodic import Floquet, PeriodicError
 from .symbols import t
 
@@ -197,8 +198,9 @@ def steady_running(mechanism, scene, params, cycle=2 * math.pi, *,
     if not (math.isfinite(cycle) and cycle > 0):
         raise PeriodicError(f"cycle = {cycle} must be positive and finite")
     compiled = compile_scene(mechanism, scene)
-    p = compiled.parameter_vector(params)
-    phi0, omega0 = _start(compiled, mechanism, scene, params, speed_guess)
+    values = ParameterSet(params, mechanism=mechanism, scene=scene)
+    p = values.vector(compiled.param_names)
+    phi0, omega0 = _start(compiled, mechanism, scene, values.numbers, speed_guess)
     tolerance = 1e3 * _RTOL
     for _ in range(_MAX_NEWTON):
         omega, v, _, _ = _cycle_map(compiled, p, phi0, cycle, omega0)
@@ -313,14 +315,16 @@ def flywheel(mechanism, scene, params, delta, inertia, cycle=2 * math.pi) -> Fly
     eqs = _check(mechanism, scene)
     if not 0 < float(delta) < 1:
         raise PeriodicError(f"delta = {delta} must lie between 0 and 1")
-    params = dict(params)
-    key = next((k for k in params if str(k) == str(inertia)), None)
-    if key is None:
+    values = ParameterSet(params, mechanism=mechanism, scene=scene)
+    params = values.numbers
+    key = str(inertia)
+    if key not in params:
         raise PeriodicError(f"flywheel: give a starting value of {inertia} in params")
-    coefficient = sp.diff(eqs.reduced_inertia, inertia)
-    by_name = {str(k): v for k, v in params.items()}
-    coefficient = coefficient.subs({s: by_name[s.name] for s in coefficient.free_symbols
-                                    if s.name in by_name})
+    inertia = next((s for s in eqs.reduced_inertia.free_symbols if s.name == key), None)
+    if inertia is None:
+        raise PeriodicError(f"flywheel: {key} does not enter the reduced inertia "
+                            f"{eqs.reduced_inertia}")
+    coefficient = values.substitute(sp.diff(eqs.reduced_inertia, inertia))
     if not (coefficient.is_number and coefficient > 0) or \
             sp.diff(eqs.reduced_inertia, inertia, 2) != 0:
         raise PeriodicError(f"flywheel: {inertia} must enter the reduced inertia "
@@ -354,16 +358,16 @@ def flywheel(mechanism, scene, params, delta, inertia, cycle=2 * math.pi) -> Fly
     running = running_with(value)
     swing, own = _textbook_terms(eqs, params | {key: 0.0}, running)
     textbook = (swing / (delta * running.omega_mean ** 2) - own) / coefficient
-    return Flywheel(key, value, float(delta), running, swing, textbook, own)
+    return Flywheel(inertia, value, float(delta), running, swing, textbook, own)
 
 
 def _textbook_terms(eqs, params, running):
     """``Delta E_max`` from ``M_red(phi, omega_mean)``, and the mean ``I_red`` of
     ``params`` (the flywheel set to zero) over the cycle."""
-    by_name = {str(k): float(v) for k, v in params.items()}
+    values = ParameterSet(params)
 
     def numeric(expr):
-        expr = expr.subs({s: by_name[s.name] for s in expr.free_symbols if s.name in by_name})
+        expr = values.substitute(expr)
         return np.broadcast_to(sp.lambdify((eqs.q[0], eqs.u[0]), expr, "numpy")(
             running.phi, running.omega_mean), running.phi.shape)
     moment = numeric(eqs.reduced_moment)

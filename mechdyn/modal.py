@@ -30,6 +30,7 @@ import scipy.optimize
 import sympy as sp
 
 from .errors import DerivationError, ParameterError
+from .parameters import ParameterSet
 from .symbols import plain, t
 
 __all__ = ["Modes", "natural_frequencies"]
@@ -85,7 +86,7 @@ def natural_frequencies(mechanism, scene=None, params=None, at=None) -> Modes:
     scene : Scene, optional
         Selects the effects and the rigid springs (as for ``mechanism.equations``).
     params : dict, optional
-        Numerical values of every parameter symbol.
+        Numerical values of every parameter (keys: symbols or names).
     at : dict, optional
         The operating point: coordinates, speeds (``md.speed(q)``) and ``md.t``; those
         not given are zero.
@@ -110,7 +111,7 @@ def natural_frequencies(mechanism, scene=None, params=None, at=None) -> Modes:
     eqs = mechanism.equations(scene)
     q, u = list(eqs.q), list(eqs.u)
     point = _operating_point(eqs, at)
-    values = _parameter_values(params)
+    values = ParameterSet(params, mechanism=mechanism, scene=scene).by_symbol()
     forcing = eqs.smooth_forcing
     matrices = {"mass": eqs.mass_matrix,
                 "stiffness": sp.hessian(eqs.potential_energy, q),
@@ -159,15 +160,6 @@ def _plain(key):
     except TypeError:
         raise ParameterError(f"operating point: {key!r} is not a coordinate or a speed") \
             from None
-
-
-def _parameter_values(params) -> dict:
-    params = params or {}
-    for symbol in params:
-        if not isinstance(symbol, sp.Symbol):
-            raise ParameterError(f"params: key {symbol!r} is not a parameter symbol")
-    return {s: _number(v.xreplace(params) if isinstance(v, sp.Basic) else v, f"parameter {s}")
-            for s, v in params.items()}
 
 
 def _number(value, what) -> float:

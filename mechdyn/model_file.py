@@ -1,7 +1,11 @@
 """Loading model files: Python files that define ``mechanism``, ``params`` and ``scenes``.
 
-A model file is the user's own code and runs like any script. Values typed on the command
-line are parsed by :mod:`mechdyn.parse`, never evaluated.
+A model file is the user's own code and runs like any script. Whatever goes wrong in it
+(an exception, ``sys.exit(n)``, a ``KeyboardInterrupt`` it raises itself, ``scenes`` or
+``params`` of the wrong type, parameter values its mechanism refuses) is a
+:class:`ModelFileError` naming the file (and the line), so ``mechdyn models`` lists the
+other files and the command exits with status 2. A real Ctrl-C still interrupts. Values
+typed on the command line are parsed by :mod:`mechdyn.parse`, never evaluated.
 
 >>> model = load_model("models/shoe_brake.py")   # doctest: +SKIP
 >>> sorted(model.scenes)                          # doctest: +SKIP
@@ -10,8 +14,14 @@ line are parsed by :mod:`mechdyn.parse`, never evaluated.
 from __future__ import annotations
 
 import runpy
+import signal
+import threading
+from collections.abc import Mapping
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
+
+import sympy as sp
 
 from .errors import MechdynError
 from .mechanism import Mechanism
@@ -57,23 +67,94 @@ def load_model(path) -> Model:
     path = Path(path)
     if not path.is_file():
         raise ModelFileError(f"model file {path} not found")
-    try:
-        namespace = runpy.run_path(str(path), run_name="mechdyn_model")
-    except MechdynError as error:
-        raise ModelFileError(f"{path}: {error}") from error
-    except Exception as error:
-        line = _line_in(error, path)
-        raise ModelFileError(f"{path}{line}: {type(error).__name__}: {error}") from error
+    namespace = _run(path)
     mechanism = namespace.get("mechanism")
     if not isinstance(mechanism, Mechanism):
         raise ModelFileError(f"{path} defines no `mechanism` (a md.Mechanism); a model file "
                              "defines `mechanism`, `params` (defaults) and `scenes`")
-    scenes = dict(namespace.get("scenes") or {})
+    scenes = _scenes(path, namespace.get("scenes"))
+    params = _params(path, namespace.get("params"), mechanism)
+    doc = namespace.get("__doc__")
+    return Model(path, mechanism, params, scenes, doc.strip() if isinstance(doc, str) else "")
+
+
+def _run(path) -> dict:
+    """The namespace a model file leaves; anything it raises, including ``SystemExit``
+    and a ``KeyboardInterrupt`` of its own, becomes a :class:`ModelFileError`."""
+    with _interrupts_noted() as interrupted:
+        try:
+            return runpy.run_path(str(path), run_name="mechdyn_model")
+        except MechdynError as error:
+            raise ModelFileError(f"{path}{_line_in(error, path)}: {error}") from error
+        except SystemExit as error:
+            raise ModelFileError(f"{path}{_line_in(error, path)}: the model file called "
+                                 f"sys.exit({error.code!r}); a model file defines "
+                                 "`mechanism`, `params` and `scenes` and must not exit") \
+                from None
+        except KeyboardInterrupt as error:
+            if interrupted:
+                raise                                   # a real Ctrl-C
+            raise ModelFileError(f"{path}{_line_in(error, path)}: the model file raised "
+                                 "KeyboardInterrupt") from None
+        except BaseException as error:
+            text = f": {error}" if str(error) else ""
+            raise ModelFileError(f"{path}{_line_in(error, path)}: "
+                                 f"{type(error).__name__}{text}") from error
+
+
+@contextmanager
+def _interrupts_noted():
+    """Note real SIGINTs (Ctrl-C) while a model file runs, so a ``KeyboardInterrupt``
+    the file raises itself can be told from one the user gave."""
+    noted = []
+    previous = signal.getsignal(signal.SIGINT) \
+        if threading.current_thread() is threading.main_thread() else None
+    if not callable(previous):           # not the main thread, or SIGINT ignored or fatal
+        yield noted
+        return
+
+    def note(signum, frame):
+        noted.append(signum)
+        previous(signum, frame)
+    signal.signal(signal.SIGINT, note)
+    try:
+        yield noted
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+def _scenes(path, scenes) -> dict:
+    if scenes is None:
+        return {}
+    if not isinstance(scenes, Mapping):
+        raise ModelFileError(f"{path}: `scenes` must be a dict {{name: md.Scene}}, got "
+                             f"{type(scenes).__name__}")
     for name, scene in scenes.items():
+        if not isinstance(name, str):
+            raise ModelFileError(f"{path}: scene names must be strings, got {name!r}")
         if not isinstance(scene, Scene):
-            raise ModelFileError(f"{path}: scenes[{name!r}] is not a md.Scene")
-    return Model(path, mechanism, dict(namespace.get("params") or {}), scenes,
-                 (namespace.get("__doc__") or "").strip())
+            raise ModelFileError(f"{path}: scenes[{name!r}] is not a md.Scene "
+                                 f"(got {type(scene).__name__})")
+    return dict(scenes)
+
+
+def _params(path, params, mechanism) -> dict:
+    """The default parameter values, checked as every run will check them."""
+    from .parameters import ParameterSet
+    if params is None:
+        return {}
+    if not isinstance(params, Mapping):
+        raise ModelFileError(f"{path}: `params` must be a dict {{symbol or name: value}}, "
+                             f"got {type(params).__name__}")
+    for key in params:
+        if not isinstance(key, (sp.Symbol, str)):
+            raise ModelFileError(f"{path}: params: the key {key!r} is not a parameter "
+                                 "symbol or name")
+    try:
+        ParameterSet(defaults=params, mechanism=mechanism)
+    except MechdynError as error:
+        raise ModelFileError(f"{path}: params: {error}") from None
+    return dict(params)
 
 
 def _line_in(error, path) -> str:

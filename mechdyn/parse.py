@@ -63,12 +63,17 @@ def number(text: str) -> float:
 
 
 def assignment(text: str) -> tuple:
-    """``"name=value"`` -> ``(name, float)``."""
+    """``"name=value"`` -> ``(name, value text)``; the value is read where it is used
+    (:func:`mechdyn.parameters.to_number`), so its errors name the parameter.
+
+    >>> assignment("P = 2*pi")
+    ('P', '2*pi')
+    """
     name, sep, value = text.partition("=")
     name = name.strip()
     if not sep or not name.isidentifier():
         raise ValueTextError(f"{text!r}: expected name=value, e.g. I=0.4")
-    return name, number(value)
+    return name, value.strip()
 
 
 def named_value(text: str) -> tuple:

@@ -60,6 +60,7 @@ from scipy.integrate import solve_ivp
 
 from .compile import compile_scene
 from .errors import MechdynError, SceneError
+from .parameters import ParameterSet
 from .symbols import dotted_symbol, speed, t
 
 __all__ = ["Floquet", "PeriodicSolution", "PeriodicError", "NoPeriodicSolutionError",
@@ -218,8 +219,7 @@ def forcing_period(mechanism, scene, params) -> float:
 
 def _substitute(expr, params):
     """``expr`` with the parameter values (keys: symbols or names) put in."""
-    by_name = {str(k): v for k, v in params.items()}
-    return expr.subs({s: by_name[s.name] for s in expr.free_symbols if s.name in by_name})
+    return ParameterSet(params).substitute(expr)
 
 
 def _period_value(period, params, mechanism, scene) -> float:
@@ -271,9 +271,11 @@ def _problem(mechanism, scene, params, period, rtol, atol) -> _Problem:
                             f"({', '.join(fr.name for fr in eqs.frictions)}) switches "
                             "between stick and slip; the periodic analysis needs smooth "
                             "equations (leave friction out of the scene's effects)")
+    values = ParameterSet(params, mechanism=mechanism, scene=scene)
+    params = values.numbers
     T = _period_value(period, params, mechanism, scene)
     compiled = compile_scene(mechanism, scene)
-    p = compiled.parameter_vector(params)
+    p = values.vector(compiled.param_names)
     guess = _guess(compiled, mechanism, scene, params)
     method = scene.method
     if method == "auto":

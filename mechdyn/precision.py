@@ -35,6 +35,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from .errors import MechdynError, SimulationError
+from .parameters import ParameterSet
 
 __all__ = ["work_precision", "WorkPrecision", "Row", "Reference", "DEFAULT_METHODS",
            "DEFAULT_RTOLS"]
@@ -225,6 +226,7 @@ def work_precision(mech, scene, params, methods=DEFAULT_METHODS, rtols=DEFAULT_R
     'DOP853'
     """
     mech.compile(scene)     # compile (or load) once, outside the timed runs
+    params = ParameterSet(params, mechanism=mech, scene=scene)     # bad values: refused here
     reference = _reference(mech, scene, params, points, reference_rtol, check_rtol)
     rows = [_row(mech, scene, params, method, rtol, repeats, reference, points)
             for method in methods for rtol in rtols]

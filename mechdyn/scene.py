@@ -10,6 +10,9 @@ when to stop, what to record, and how to integrate.
 """
 from __future__ import annotations
 
+import math
+import numbers
+import sys
 from dataclasses import dataclass, field
 
 import sympy as sp
@@ -19,10 +22,11 @@ from .errors import SceneError
 from .symbols import is_coordinate, t
 
 __all__ = ["Scene", "StopCondition", "stopped", "reaches", "selection", "DEFAULT_RTOL",
-           "DEFAULT_ATOL"]
+           "DEFAULT_ATOL", "MIN_RTOL"]
 
 DEFAULT_RTOL, DEFAULT_ATOL = 1e-10, 1e-12
 DEFAULT_MAX_STEPS = 1_000_000
+MIN_RTOL = 100 * sys.float_info.epsilon      # scipy's solve_ivp floor (2.2e-14)
 
 
 @dataclass(frozen=True)
@@ -91,11 +95,14 @@ class Scene:
     method : str
         ``"auto"`` or a ``solve_ivp`` method name.
     rtol, atol : float
-        Tolerances (``atol`` may be a dict per state, with an optional ``"default"``).
+        Tolerances (``atol`` may be a dict per state, with an optional ``"default"``):
+        finite, ``atol > 0``, ``MIN_RTOL <= rtol < 1`` (``MIN_RTOL = 100 eps``, about
+        2.2e-14, scipy's own floor).
         The defaults, 1e-10 and 1e-12, cost DOP853 about 1.7x the steps of 1e-8 and
         gain four orders of accuracy (docs/hard-cases.md).
     t_start : float
-        Start time.
+        Start time. Times and tolerances must be finite numbers (a SceneError names
+        the field otherwise).
     max_steps, max_wall_time : int, float or None
         The run's budget: accepted steps (default one million) and seconds of wall time
         (default none); a run that exceeds it stops with a SimulationError carrying
@@ -143,21 +150,32 @@ class Scene:
         for label in labels:
             if labels.count(label) > 1:
                 raise SceneError(f"scene {self.name!r}: two outputs are labelled {label!r}")
+        object.__setattr__(self, "t_start", self._number("t_start", self.t_start))
         if self.t_end is None and not until:
             raise SceneError(f"scene {self.name!r}: give t_end or a stop condition (until=)")
-        if self.t_end is not None and not self.t_end > self.t_start:
-            raise SceneError(f"scene {self.name!r}: t_end = {self.t_end} must be later "
-                             f"than the start {self.t_start}")
-        atol = self.atol.values() if isinstance(self.atol, dict) else [self.atol]
-        for name, value in [("rtol", self.rtol)] + [("atol", a) for a in atol]:
-            if not (isinstance(value, (int, float)) and value > 0):
-                raise SceneError(f"scene {self.name!r}: {name} must be a positive number, "
-                                 f"got {value!r}")
+        if self.t_end is not None:
+            object.__setattr__(self, "t_end", self._number("t_end", self.t_end))
+            if not self.t_end > self.t_start:
+                raise SceneError(f"scene {self.name!r}: t_end = {self.t_end} must be later "
+                                 f"than the start {self.t_start}")
+        rtol = self._number("rtol", self.rtol)
+        if not MIN_RTOL <= rtol < 1:
+            raise SceneError(f"scene {self.name!r}: rtol = {rtol!r} must lie in "
+                             f"[{MIN_RTOL:.3g}, 1): a relative error of 1 or more checks "
+                             "nothing, and scipy's solvers raise any rtol below 100 machine "
+                             "epsilons to that floor")
+        object.__setattr__(self, "rtol", rtol)
+        if isinstance(self.atol, dict):
+            atol = {key: self._number(f"atol[{key}]", value, positive=True)
+                    for key, value in self.atol.items()}
+        else:
+            atol = self._number("atol", self.atol, positive=True)
+        object.__setattr__(self, "atol", atol)
         for name in ("max_steps", "max_wall_time"):
             value = getattr(self, name)
-            if value is not None and not (isinstance(value, (int, float)) and value > 0):
-                raise SceneError(f"scene {self.name!r}: {name} must be a positive number "
-                                 f"or None, got {value!r}")
+            if value is not None:
+                number = self._number(name, value, positive=True)
+                object.__setattr__(self, name, int(number) if name == "max_steps" else number)
 
     def labelled_outputs(self) -> list:
         """``(label, item)`` for each output: the dict's names, else the element name,
@@ -171,6 +189,19 @@ class Scene:
             else:
                 pairs.append((str(output), output))
         return pairs
+
+    def _number(self, field_name, value, positive=False) -> float:
+        """A finite real number (positive if asked), or a SceneError naming the field."""
+        if isinstance(value, (bool, str)) or not isinstance(value, (numbers.Real, sp.Number)):
+            raise SceneError(f"scene {self.name!r}: {field_name} must be a number, got "
+                             f"{value!r}")
+        number = float(value)
+        if not math.isfinite(number):
+            raise SceneError(f"scene {self.name!r}: {field_name} = {value!r} is not finite")
+        if positive and not number > 0:
+            raise SceneError(f"scene {self.name!r}: {field_name} must be a positive number, "
+                             f"got {value!r}")
+        return number
 
     @property
     def time_limit(self) -> float:
@@ -212,6 +243,7 @@ def selection(mechanism, scene) -> tuple:
                     f"{mechanism.name!r} are {sorted(loads)} with tags "
                     f"{sorted({tag for n in loads for tag in mechanism.elements[n].tags})}")
             chosen |= hits
+    _check_coordinates(mechanism, scene)
     for name, _ in scene.rigid:
         element = mechanism.elements.get(name)
         if not isinstance(element, Spring):
@@ -219,3 +251,18 @@ def selection(mechanism, scene) -> tuple:
                              f"{mechanism.name!r}")
     names = tuple(n for n in loads if n in chosen)
     return names, tuple(scene.rigid)
+
+
+def _check_coordinates(mechanism, scene):
+    """Stop conditions and output expressions may use only the mechanism's coordinates."""
+    from sympy.core.function import AppliedUndef
+    uses = [(f"stop condition {c!r}", e) for c in scene.until for e in (c.expression, c.value)]
+    uses += [(f"output {o}", o) for o in scene.outputs if isinstance(o, sp.Basic)]
+    declared = set(mechanism.coordinates)
+    for what, expr in uses:
+        for f in expr.atoms(AppliedUndef):
+            if f not in declared:
+                names = ", ".join(q.func.__name__ for q in mechanism.coordinates)
+                raise SceneError(f"scene {scene.name!r}: {what} uses {f.func.__name__}, which "
+                                 f"is not a coordinate of {mechanism.name!r} (coordinates: "
+                                 f"{names})")

@@ -20,9 +20,9 @@ import sympy as sp
 
 from .compile import compile_scene
 from .driver import Budget, Driver
-from .elements import Link
-from .errors import ParameterError, SceneError
+from .errors import SceneError
 from .methods import choose_method
+from .parameters import ParameterSet
 from .result import Result
 from .scene import DEFAULT_ATOL, Scene
 from .stepping import METHODS
@@ -42,43 +42,20 @@ def simulate(mechanism, scene: Scene, params: dict, *, progress=None, max_steps=
     if not isinstance(scene, Scene):
         raise SceneError(f"simulate() needs a md.Scene, got {scene!r}")
     compiled = compile_scene(mechanism, scene)
-    p = compiled.parameter_vector(params)
-    _check_links(mechanism, params)
-    y0 = initial_state(compiled, mechanism, scene, params)
+    values = ParameterSet(params, mechanism=mechanism, scene=scene)
+    base = values.vector(compiled.param_names)
+    y0 = initial_state(compiled, mechanism, scene, values.numbers)
     atol = _atol_vector(compiled, mechanism, scene)
     if scene.method != "auto" and scene.method not in METHODS:
         raise SceneError(f"scene {scene.name!r}: unknown method {scene.method!r}; "
                          f"use 'auto' or one of {', '.join(METHODS)}")
     budget = Budget(scene.max_steps if max_steps is None else max_steps,
                     scene.max_wall_time if max_wall_time is None else max_wall_time)
-    base = p[:len(compiled.param_names)]
     driver = Driver(compiled, base, scene, scene.method, atol, mechanism, budget, progress)
     return driver.run(y0)
 
 
 # --------------------------------------------------------------------- inputs
-def _by_name(params):
-    return {str(k): v for k, v in params.items()}
-
-
-def _check_links(mechanism, params):
-    """Refuse parameter values that make a link's mass or inertia negative."""
-    values = {name: sp.Float(value) for name, value in _by_name(params).items()
-              if isinstance(value, (int, float))}
-    for link in mechanism.elements.values():
-        if not isinstance(link, Link):
-            continue
-        for attribute in ("m", "J"):
-            expr = getattr(link, attribute)
-            if expr.is_number:
-                continue                     # numbers were checked when declared
-            value = expr.xreplace({s: values[s.name] for s in expr.free_symbols
-                                   if s.name in values})
-            if value.is_number and value < 0:
-                raise ParameterError(f"link {link.name!r}: {attribute} = {expr} = {value} is "
-                                     "negative; masses and inertias must not be negative")
-
-
 def initial_state(compiled, mechanism, scene, params) -> np.ndarray:
     """The scene's initial state vector ``[q..., u...]``, checked and evaluated."""
     n = compiled.dof

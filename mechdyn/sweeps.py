@@ -1,14 +1,24 @@
 """Parameter sweeps: run one scene over a grid of parameter values on any Executor.
 
 The equations are derived and compiled once, in the calling process; the workers receive
-the mechanism, the scene and the generated code (pickled once per sweep), so they neither
+the mechanism, the scene and the generated code once each (local processes: when they
+start; other executors: with each point, unpickled once per worker), so they neither
 derive nor compile. Any :class:`concurrent.futures.Executor` runs the points: local
 processes by default, a Dask cluster through ``distributed.Client(...).get_executor()``.
 
-Each finished point is appended to the ``out`` CSV file at once, so a crash loses only
-the points in flight; a rerun with the same ``out`` reads the file and runs only the
-points not in it. A point whose simulation fails is recorded with its error text (and
-not retried by a rerun: delete its row to retry); the other points are kept.
+Limits and faults:
+
+- the grid may hold at most ``max_points`` points (default 1,000,000, about 1 KB of
+  memory per row); points go to the workers in batches of about ``BATCH_SECONDS`` of
+  work, at most ``IN_FLIGHT`` batches (four per local worker) submitted at a time;
+- each finished point is appended to the ``out`` CSV file at once (see
+  :mod:`mechdyn.sweep_file`: locked, and recorded so a rerun resumes only the same
+  sweep); a crash or Ctrl-C loses only the points in flight;
+- on Ctrl-C (or any error) the local worker processes are ended at once; they ignore
+  SIGINT themselves and end on their own within a second if the main process is killed.
+
+A point whose simulation fails is recorded with its error text (and not retried by a
+rerun: delete its row to retry); the other points are kept.
 
 >>> import mechdyn as md
 >>> from concurrent.futures import ThreadPoolExecutor
@@ -21,31 +31,35 @@ not retried by a rerun: delete its row to retry); the other points are kept.
 """
 from __future__ import annotations
 
-import csv
 import hashlib
 import itertools
+import math
 import os
 import pickle
+import signal
+import threading
+import time
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
-from .compile import CompiledScene, compile_scene
-from .errors import MechdynError, ParameterError
-from .plotting import dense_series
+from . import __version__
+from .errors import ParameterError
+from .parameters import ParameterSet, to_number
+from .sweep_file import TEXT_COLUMNS, SweepError, SweepFile, SweepFileError
 
-__all__ = ["sweep", "Sweep", "SweepFileError"]
+__all__ = ["sweep", "Sweep", "SweepError", "SweepFileError", "MAX_POINTS", "IN_FLIGHT"]
 
-_TEXT_COLUMNS = ("reason", "error")
+MAX_POINTS = 1_000_000       # default bound on the grid size (max_points= raises it)
+IN_FLIGHT = 512              # tasks submitted and not yet collected, at most
+BATCH_SECONDS = 0.05         # work per task once the cost of a point is known
+_MAX_BATCH = 64              # points per task, at most
+_PARENT_CHECK = 0.5          # s between a worker's checks that its parent still lives
 
 
-class SweepFileError(MechdynError, ValueError):
-    """An ``out`` file that holds a different sweep's columns."""
-
-
-def sweep(mechanism, scene, params, grid, executor=None, out=None, progress=True):
+def sweep(mechanism, scene, params, grid, executor=None, out=None, progress=True, *,
+          workers=None, max_points=MAX_POINTS, fresh=False, wait=0.0):
     """Simulate ``scene`` at every point of a full-factorial parameter grid.
 
     Parameters
@@ -57,12 +71,21 @@ def sweep(mechanism, scene, params, grid, executor=None, out=None, progress=True
     grid : dict
         Parameter (symbol or name) -> list of values; all combinations are run.
     executor : concurrent.futures.Executor, optional
-        Runs the points (default: a ``ProcessPoolExecutor`` on all cores, shut down
-        afterwards). A Dask cluster's ``client.get_executor()`` works unchanged.
+        Runs the points (default: ``workers`` local processes, ended afterwards). A
+        Dask cluster's ``client.get_executor()`` works unchanged.
     out : str or Path, optional
-        CSV file the rows are appended to as they finish; an existing file is resumed.
+        CSV file the rows are appended to as they finish; an existing file of the same
+        sweep is resumed, one of another sweep refused (see :mod:`mechdyn.sweep_file`).
     progress : bool
         Show a tqdm progress bar (when tqdm is installed and the output is a terminal).
+    workers : int, optional
+        Local worker processes when no ``executor`` is given (default: all cores).
+    max_points : int
+        Refuse grids with more points (default :data:`MAX_POINTS`).
+    fresh : bool
+        Discard the rows of an existing ``out`` file instead of resuming it.
+    wait : float
+        Seconds to wait for another sweep that holds ``out`` (default: stop at once).
 
     Returns
     -------
@@ -81,23 +104,28 @@ def sweep(mechanism, scene, params, grid, executor=None, out=None, progress=True
     >>> table["final:phi"].round(6).tolist()    # omega_0^2 / (2 eps), eps = 2 f P R / I
     [2500.0, 1000.0]
     """
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int)
+                                or workers < 1):
+        raise SweepError(f"sweep: workers = {workers!r} must be a whole number >= 1")
+    from .compile import compile_scene
     compiled = compile_scene(mechanism, scene)
-    names, points = _grid_points(grid, compiled)
-    base = {str(key): value for key, value in params.items()}
-    compiled.parameter_vector({**base, **dict.fromkeys(names, 0.0)})  # all known?
+    names, points = _grid_points(grid, compiled, max_points)
+    values = ParameterSet(params, mechanism=mechanism, scene=scene)
+    fixed_names = [n for n in compiled.param_names if n not in names]
+    fixed = dict(zip(fixed_names, values.vector(fixed_names)))
     columns = _columns(names, compiled)
-    table = _Table(out, columns, names)
-    todo = [point for point in points if point not in table.rows]
-    try:
+    record = _record_of(mechanism, scene, compiled, names, fixed)
+    with SweepFile(out, columns, names, record, fresh=fresh, wait=wait) as table:
+        todo = [point for point in points if point not in table.rows]
         if todo:
-            job = _Job(mechanism, scene, base, tuple(names), compiled.key, compiled.meta,
-                       compiled.source)
-            _run(job, todo, table, executor, _bar(progress, len(points), len(table.rows)))
-    finally:
-        table.close()
+            job = _Job(mechanism, scene, values.numbers, tuple(names), compiled.key,
+                       compiled.meta, compiled.source)
+            _run(job, todo, table, executor or workers,
+                 _bar(progress, len(points), len(table.rows)))
+        rows = [table.rows[point] for point in points]
     default_y = "t_end" if scene.until else next(
         (c for c in columns if c.startswith("peak:")), f"final:{compiled.state_names[-1]}")
-    return Sweep(names, columns, [table.rows[point] for point in points], default_y, out)
+    return Sweep(names, columns, rows, default_y, out)
 
 
 class Sweep:
@@ -119,7 +147,7 @@ class Sweep:
         if column not in self.columns:
             raise KeyError(f"{column!r}: not a column ({', '.join(self.columns)})")
         values = [row[column] for row in self.rows]
-        return np.array(values, dtype=object if column in _TEXT_COLUMNS else float)
+        return np.array(values, dtype=object if column in TEXT_COLUMNS else float)
 
     @property
     def failed(self) -> list:
@@ -137,8 +165,9 @@ class Sweep:
 
 
 # ---------------------------------------------------------------------- the grid
-def _grid_points(grid, compiled):
-    """Swept names (checked against the scene's parameters) and the grid's points."""
+def _grid_points(grid, compiled, max_points):
+    """Swept names (checked against the scene's parameters) and the grid's points,
+    refused before they are built when there are more than ``max_points``."""
     if not grid:
         raise ParameterError("sweep: the grid is empty; give {parameter: [values]}")
     names, axes = [], []
@@ -147,15 +176,22 @@ def _grid_points(grid, compiled):
         if name not in compiled.param_names:
             raise ParameterError(f"sweep: {name!r} is not a parameter of this scene "
                                  f"(parameters: {', '.join(compiled.param_names)})")
-        try:
-            values = [float(v) for v in values]
-        except (TypeError, ValueError):
-            raise ParameterError(f"sweep: the values of {name} must be numbers") from None
-        if not values or not all(np.isfinite(values)):
-            raise ParameterError(f"sweep: give {name} at least one finite value")
+        if name in names:
+            raise ParameterError(f"sweep: {name} is swept twice")
+        if isinstance(values, (str, bytes)) or not hasattr(values, "__iter__"):
+            raise ParameterError(f"sweep: the values of {name} must be a list of numbers")
+        values = list(dict.fromkeys(to_number(name, v) for v in values))
+        if not values or not all(math.isfinite(v) for v in values):
+            raise ParameterError(f"sweep: give {name} at least one value, all finite")
         names.append(name)
         axes.append(values)
-    return names, list(dict.fromkeys(itertools.product(*axes)))
+    size = math.prod(len(axis) for axis in axes)
+    if size > max_points:
+        raise SweepError(f"sweep: the grid has {size:,} points "
+                             f"({' x '.join(str(len(a)) for a in axes)}), more than "
+                             f"max_points = {max_points:,}; raise the limit (max_points=, "
+                             "--max-points) if you mean it")
+    return names, list(itertools.product(*axes))
 
 
 def _columns(names, compiled):
@@ -166,6 +202,18 @@ def _columns(names, compiled):
     if clash:
         raise ParameterError(f"sweep: parameter {sorted(clash)} clashes with a result column")
     return columns + ["error"]
+
+
+def _record_of(mechanism, scene, compiled, names, fixed) -> dict:
+    """What the rows depend on, as the results file records it."""
+    return {"mechdyn": __version__, "mechanism": str(mechanism.name),
+            "declaration": compiled.key, "swept": list(names),
+            "scene": {"name": str(scene.name), "t_start": repr(scene.t_start),
+                      "t_end": repr(scene.t_end), "method": str(scene.method),
+                      "rtol": repr(scene.rtol), "atol": repr(scene.atol),
+                      "initial": repr(sorted((str(k), str(v))
+                                             for k, v in scene.initial.items()))},
+            "fixed": fixed}
 
 
 # ------------------------------------------------------------------ the workers
@@ -184,15 +232,41 @@ class _Job:
 _jobs: dict = {}          # per worker process: digest -> _Job
 
 
-def _run_point(digest, blob, point):
-    """Simulate one grid point in a worker; a failure becomes the row's ``error``."""
+def _install(digest, blob):
+    """Unpickle a job once per worker and hand its generated code to compile_scene's
+    memory cache: no derivation, no compilation, no disk in the worker."""
     job = _jobs.get(digest)
     if job is None:
         job = _jobs[digest] = pickle.loads(blob)
-        # Hand the parent's generated code to compile_scene's cache: no derivation here.
         from . import compile as compile_module
         compile_module._memory_cache.setdefault(
-            job.key, CompiledScene(job.meta, job.source, job.key))
+            job.key, compile_module.CompiledScene(job.meta, job.source, job.key))
+    return job
+
+
+def _start_worker(digest, blob):
+    """A local worker: Ctrl-C is the parent's to handle; end with the parent."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    threading.Thread(target=_end_with_parent, args=(os.getppid(),), daemon=True).start()
+    _install(digest, blob)
+
+
+def _end_with_parent(parent):
+    """Exit as soon as the parent process is gone (killed: we were re-parented)."""
+    while os.getppid() == parent:
+        time.sleep(_PARENT_CHECK)
+    os._exit(1)
+
+
+def _run_points(digest, blob, points):
+    """Simulate a batch of grid points in a worker: their rows, and the time taken."""
+    started = time.perf_counter()
+    job = _install(digest, blob) if blob is not None else _jobs[digest]
+    return [_row(job, point) for point in points], time.perf_counter() - started
+
+
+def _row(job, point) -> dict:
+    """One grid point's row; a failure becomes the row's ``error``."""
     row = dict(zip(job.names, point))
     try:
         result = job.mechanism.simulate(job.scene, {**job.params, **row})
@@ -202,44 +276,98 @@ def _run_point(digest, blob, point):
     row.update(t_end=result.t_end, reason=result.reason, error="")
     for name, values in zip(result.state_names, result.y):
         row[f"final:{name}"] = float(values[-1])
-    for label, values in dense_series(result)[2].items():
-        row[f"peak:{label}"] = float(values[np.argmax(np.abs(values))])
+    for label, value in _peaks(result, job.meta["output_labels"]).items():
+        row[f"peak:{label}"] = value
     return row
 
 
+def _peaks(result, labels, points=1001) -> dict:
+    """Each output's value of largest magnitude, found on the step points and
+    ``points`` even times between them (dense output); nothing is evaluated when the
+    scene records no outputs."""
+    if not labels:
+        return {}
+    times = result.t
+    if len(times) > 1:
+        times = np.union1d(np.linspace(times[0], times[-1], points), times)
+    series = result.outputs_at(times)
+    return {label: float(v[np.argmax(np.abs(v))]) for label, v in series.items()}
+
+
 def _run(job, todo, table, executor, bar):
-    """Submit the points, record each as it finishes; on any interruption keep the
-    finished ones and cancel the rest."""
+    """Submit the points in batches, at most ``IN_FLIGHT`` batches at a time (four per
+    local worker), and record each row as its batch finishes; on any interruption keep
+    the finished rows, cancel the rest and end the local workers. ``executor``: an
+    Executor, or the number of local workers (None: one per core)."""
     blob = pickle.dumps(job)
     digest = hashlib.sha256(blob).hexdigest()
-    own = executor is None
+    own = not hasattr(executor, "submit")
+    limit = IN_FLIGHT
     if own:
-        executor = ProcessPoolExecutor(max_workers=min(len(todo), os.cpu_count() or 1))
-    order, pending = {}, set()          # futures by submission, to write in grid order
+        count = min(len(todo), executor or os.cpu_count() or 1)
+        executor = ProcessPoolExecutor(max_workers=count, initializer=_start_worker,
+                                       initargs=(digest, blob))
+        limit = 4 * count
+    shipped = None if own else blob               # own workers got the job at start
+    points, pending, finished, batch = iter(todo), set(), False, _Batch()
+    order = {}                          # future -> submission number: rows in grid order
     try:
-        for point in todo:
-            future = executor.submit(_run_point, digest, blob, point)
-            order[future] = len(order)
-            pending.add(future)
-        while pending:
+        while True:
+            while len(pending) < limit:
+                points_of_batch = list(itertools.islice(points, batch.size))
+                if not points_of_batch:
+                    break
+                future = executor.submit(_run_points, digest, shipped, points_of_batch)
+                order[future] = len(order)
+                pending.add(future)
+            if not pending:
+                break
             done, pending = wait(pending, return_when=FIRST_COMPLETED)
-            _record(sorted(done, key=order.get), table, bar)
+            _collect(sorted(done, key=order.pop), table, bar, batch)
+        finished = True
     finally:
         for future in pending:
             future.cancel()
-        _record(sorted((f for f in pending if f.done() and not f.cancelled()
-                        and f.exception() is None), key=order.get), table, bar)
+        _collect(sorted((f for f in pending if f.done() and not f.cancelled()
+                         and f.exception() is None), key=order.get), table, bar, batch)
         if bar is not None:
             bar.close()
         if own:
+            if not finished:
+                _end_workers(executor)
             executor.shutdown(wait=True, cancel_futures=True)
 
 
-def _record(futures, table, bar):
+class _Batch:
+    """Points per submitted task: one at first, then as many as take about
+    ``BATCH_SECONDS``, so the cost of a task's round trip vanishes beside its work."""
+
+    def __init__(self):
+        self.size = 1
+
+    def learn(self, seconds, points):
+        per_point = max(seconds / max(points, 1), 1e-6)
+        self.size = max(1, min(_MAX_BATCH, int(BATCH_SECONDS / per_point)))
+
+
+def _collect(futures, table, bar, batch):
     for future in futures:
-        table.add(future.result())
-        if bar is not None:
-            bar.update()
+        rows, seconds = future.result()
+        batch.learn(seconds, len(rows))
+        for row in rows:
+            table.add(row)
+            if bar is not None:
+                bar.update()
+
+
+def _end_workers(executor):
+    """Terminate a ProcessPoolExecutor's workers now (their points are lost anyway)."""
+    terminate = getattr(executor, "terminate_workers", None)       # Python >= 3.14
+    if terminate is not None:
+        terminate()
+        return
+    for process in list((getattr(executor, "_processes", None) or {}).values()):
+        process.terminate()
 
 
 def _bar(show, total, initial):
@@ -251,61 +379,3 @@ def _bar(show, total, initial):
     except ImportError:
         return None
     return tqdm(total=total, initial=initial, unit="point", desc="sweep", disable=None)
-
-
-# --------------------------------------------------------------- the results file
-class _Table:
-    """Rows by grid point, appended to a CSV file as they arrive (resumed if present)."""
-
-    def __init__(self, path, columns, names):
-        self.columns, self.names, self.rows = columns, names, {}
-        self._handle = self._writer = None
-        if path is None:
-            return
-        path = Path(path)
-        if path.is_file() and path.stat().st_size:
-            self._resume(path)
-            self._handle = open(path, "a", newline="")
-            self._writer = csv.writer(self._handle)
-        else:
-            self._handle = open(path, "w", newline="")
-            self._writer = csv.writer(self._handle)
-            self._writer.writerow(columns)
-            self._handle.flush()
-
-    def _resume(self, path):
-        text = path.read_text()
-        if not text.endswith("\n"):              # a row cut off by a crash
-            text = text[:text.rfind("\n") + 1]
-            path.write_text(text)
-        lines = list(csv.reader(text.splitlines()))
-        if not lines or lines[0] != self.columns:
-            found = ", ".join(lines[0]) if lines else "nothing"
-            raise SweepFileError(f"{path} holds another sweep (columns {found}); expected "
-                                 f"{', '.join(self.columns)}: give a new --out file")
-        for values in lines[1:]:
-            if len(values) == len(self.columns):
-                self.add(dict(zip(self.columns, values)), write=False)
-
-    def add(self, row, write=True):
-        row = {c: _value(c, row.get(c, "")) for c in self.columns}
-        self.rows[tuple(row[n] for n in self.names)] = row
-        if write and self._writer is not None:
-            self._writer.writerow([_text(v) for v in row.values()])
-            self._handle.flush()
-
-    def close(self):
-        if self._handle is not None:
-            self._handle.close()
-
-
-def _text(value):
-    if isinstance(value, float):
-        return "" if np.isnan(value) else repr(value)
-    return value
-
-
-def _value(column, value):
-    if column in _TEXT_COLUMNS:
-        return str(value)
-    return float(value) if value != "" else float("nan")
