@@ -643,6 +643,8 @@ def _check_outputs(args):
         value = getattr(args, attribute, None)
         if not value:
             continue
+        if attribute == "out" and getattr(args, "command", None) == "animate":
+            suffixes, what = (".gif",), "an animation"
         path = Path(value)
         if path.suffix.lower() not in suffixes:
             suffix = f"the suffix {path.suffix!r}" if path.suffix else "no suffix"

@@ -35,7 +35,7 @@ import sympy as sp
 
 from . import __version__, cache
 from .codegen import compile_source
-from .errors import ParameterError, SimulationError
+from .errors import SimulationError
 from .generate import generate
 from .scene import selection
 
@@ -131,32 +131,14 @@ class CompiledScene:
         return out
 
     # ---------------------------------------------------------------- parameters
-    def parameter_vector(self, params: dict, signs=None) -> list:
-        """``p`` from a dict of parameter values (keys: symbols or their names), with
-        the friction ``signs`` (default 0) and every branch unlocked.
-
-        All missing parameters are named in one error; NaN or infinite values too.
-        """
-        by_name = {}
-        for key, value in params.items():
-            by_name[str(key)] = value
-        missing = [n for n in self.param_names if n not in by_name]
-        if missing:
-            raise ParameterError(f"missing parameter values: {', '.join(missing)} "
-                                 f"(the scene needs {', '.join(self.param_names)})")
-        values, bad = [], []
-        for n in self.param_names:
-            try:
-                v = float(by_name[n])
-            except (TypeError, ValueError):
-                raise ParameterError(f"parameter {n} = {by_name[n]!r} is not a number") from None
-            if not math.isfinite(v):
-                bad.append(f"{n} = {v}")
-            values.append(v)
-        if bad:
-            raise ParameterError(f"parameter values must be finite: {', '.join(bad)}")
+    def parameter_vector(self, params, signs=None) -> list:
+        """``p`` from parameter values (a dict by symbol or name, or a checked
+        :class:`~mechdyn.parameters.ParameterSet`), with the friction ``signs``
+        (default 0) and every branch unlocked."""
+        from .parameters import ParameterSet
+        values = params if isinstance(params, ParameterSet) else ParameterSet(params)
         signs = [0.0] * len(self.frictions) if signs is None else list(signs)
-        return values + signs + [0.0] * self.flags
+        return values.vector(self.param_names) + signs + [0.0] * self.flags
 
     def __getstate__(self):
         """Pickled as its metadata and source (sweep workers, results), compiled again

@@ -199,7 +199,7 @@ def steady_running(mechanism, scene, params, cycle=2 * math.pi, *,
         raise PeriodicError(f"cycle = {cycle} must be positive and finite")
     compiled = compile_scene(mechanism, scene)
     values = ParameterSet(params, mechanism=mechanism, scene=scene)
-    p = values.vector(compiled.param_names)
+    p = compiled.parameter_vector(values)
     phi0, omega0 = _start(compiled, mechanism, scene, values.numbers, speed_guess)
     tolerance = 1e3 * _RTOL
     for _ in range(_MAX_NEWTON):

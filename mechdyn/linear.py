@@ -14,7 +14,8 @@ whose poles are the eigenvalues of ``A``.
 
 >>> import sympy as sp, mechdyn as md
 >>> x = md.coordinate("x")
->>> m, k, c, F = sp.symbols("m k c F", positive=True)
+>>> m, k, c = sp.symbols("m k c", positive=True)
+>>> F = sp.Symbol("F", real=True)
 >>> oscillator = md.Mechanism("oscillator", [x])
 >>> _ = oscillator.link("mass", m=m, x=x)
 >>> _ = oscillator.spring("spring", k, stretch=x)
@@ -34,7 +35,8 @@ import numpy as np
 import sympy as sp
 
 from .errors import MechdynError, ParameterError
-from .modal import _numeric, _operating_point, _parameter_values
+from .modal import _numeric, _operating_point
+from .parameters import ParameterSet
 from .symbols import is_coordinate, plain, t
 
 __all__ = ["StateSpace", "linearize"]
@@ -99,7 +101,7 @@ def linearize(mechanism, scene=None, at=None, params=None, inputs=(), outputs=()
     q, u = list(eqs.q), list(eqs.u)
     n = len(q)
     point = _operating_point(eqs, at)
-    values = _parameter_values(params)
+    values = ParameterSet(params, mechanism=mechanism, scene=scene).by_symbol()
     by_name = {s.name: s for s in values}
     symbols = [_input_symbol(w, by_name, eqs) for w in inputs]
     fixed = {s: v for s, v in values.items()}

@@ -275,7 +275,7 @@ def _problem(mechanism, scene, params, period, rtol, atol) -> _Problem:
     params = values.numbers
     T = _period_value(period, params, mechanism, scene)
     compiled = compile_scene(mechanism, scene)
-    p = values.vector(compiled.param_names)
+    p = compiled.parameter_vector(values)
     guess = _guess(compiled, mechanism, scene, params)
     method = scene.method
     if method == "auto":

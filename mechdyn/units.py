@@ -143,15 +143,11 @@ def registry():
             import pint
         except ImportError:
             raise UnitError("units need pint: pip install pint") from None
-        folder = _cache_folder()
-        _REGISTRY = pint.UnitRegistry(cache_folder=str(folder / "pint") if folder else None)
+        # No pint disk cache: it pickles, and mechdyn's cache holds only authenticated
+        # entries (docs/security.md); units.json below spares pint's import instead.
+        _REGISTRY = pint.UnitRegistry()
         _REGISTRY.define("rev = revolution")
     return _REGISTRY
-
-
-def _cache_folder():
-    from .compile import _cache_dir
-    return _cache_dir()
 
 
 def _facts(terms) -> dict:
@@ -192,27 +188,16 @@ def _load_disk():
     if _DISK_LOADED:
         return
     _DISK_LOADED = True
-    folder = _cache_folder()
-    try:
-        stored = json.loads((folder / "units.json").read_text()) if folder else {}
-    except (OSError, ValueError):
-        stored = {}
+    from . import cache
+    stored = cache.load("units.json") or {}          # authenticated, else None
     if isinstance(stored, dict):
         for key, facts in stored.items():
             _KNOWN.setdefault(key, facts)
 
 
 def _save_disk():
-    folder = _cache_folder()
-    if folder is None:
-        return
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-        temporary = folder / f"units.json.{id(_KNOWN)}.tmp"
-        temporary.write_text(json.dumps(_KNOWN))
-        temporary.replace(folder / "units.json")
-    except OSError:
-        pass                         # a read-only home only costs pint's import
+    from . import cache
+    cache.store("units.json", _KNOWN)   # a read-only home only costs pint's import
 
 
 def _text(terms) -> str:

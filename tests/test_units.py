@@ -100,7 +100,7 @@ def test_param_with_a_wrong_unit_is_a_usage_error(capsys):
     status, _, err = _run(capsys, "simulate", ROOT / "models" / "shoe_brake.py", "--scene",
                           "braking", "--param", "P=20 N*m")
     assert status == 2
-    assert "--param P: '20 N*m'" in err and "N (a force) is expected" in err
+    assert "parameter P: '20 N*m'" in err and "N (a force) is expected" in err
 
 
 def test_rpm_in_and_out(capsys):
