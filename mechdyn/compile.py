@@ -34,7 +34,7 @@ import sympy as sp
 
 from . import __version__
 from .codegen import compile_source, function_source, safe_symbols
-from .elements import Damper, Friction, Load, Spring
+from .elements import Constraint, Damper, Friction, Load, Spring
 from .errors import ParameterError, SceneError, SimulationError
 from .scene import selection
 from .symbols import t
@@ -74,7 +74,18 @@ class CompiledScene:
         self.frozen = meta["frozen"]
         self.stop_labels = meta["stop_labels"]
         self.output_labels = meta["output_labels"]
-        names = compile_source(source, {"SingularMassError": SingularMassError})
+        from .loop_code import LoopSingularError, loop_solve, numeric_jacobian
+        names = compile_source(source, {"SingularMassError": SingularMassError,
+                                        "LoopSingularError": LoopSingularError,
+                                        "numeric_jacobian": numeric_jacobian,
+                                        "_loop_solve": loop_solve})
+        # Closed loops (empty without): constraint labels, the generated closure
+        # functions (see loop_code), and outputs that are loop multipliers.
+        self.constraints = meta.get("constraints", [])
+        self.independent = meta.get("independent", list(range(self.dof)))
+        self.multiplier_outputs = meta.get("multiplier_outputs", {})
+        for name in ("multipliers", "closure", "loop_margin", "drift"):
+            setattr(self, name, names.get(name))
         self.rhs = names["rhs"]
         self._jac = names["jac"]
         self.terms = names["terms"]
@@ -113,7 +124,7 @@ class CompiledScene:
     def jac(self, t_value, y, p):
         """Analytic Jacobian d(dy/dt)/dy of :meth:`rhs` (a ``2n x 2n`` array)."""
         n = self.dof
-        if n <= _UNROLLED_LIMIT:
+        if n <= _UNROLLED_LIMIT or self.constraints:
             return np.array(self._jac(t_value, y, p), dtype=float)
         flat = self._jac(t_value, y, p)
         mass = np.array(flat[:n * n]).reshape(n, n)
@@ -151,7 +162,8 @@ def _generator_hash() -> str:
     """A hash of the modules that shape generated code, so editing them voids the cache."""
     here = Path(__file__).parent
     digest = hashlib.sha256()
-    for module in ("derive.py", "codegen.py", "compile.py", "elements.py", "symbols.py"):
+    for module in ("derive.py", "codegen.py", "compile.py", "elements.py", "symbols.py",
+                   "loop_code.py"):
         digest.update((here / module).read_bytes())
     return digest.hexdigest()[:16]
 
@@ -167,6 +179,8 @@ def declaration_key(mechanism, scene) -> str:
         parts.append([type(element).__name__, element.name, list(element.tags),
                       sorted((k, sp.srepr(v)) for k, v in element.expressions().items())])
     parts += [list(names), [list(r) for r in rigid]]
+    if mechanism.constraints:
+        parts.append([q.func.__name__ for q in mechanism.independent])
     if scene is not None:
         parts.append([sp.srepr(o) if isinstance(o, sp.Basic) else str(o) for o in scene.outputs])
         parts.append([[sp.srepr(c.expression), sp.srepr(c.value), c.direction, repr(c)]
@@ -243,9 +257,14 @@ def generate(eqs, scene, elements) -> tuple:
            f"p = [{', '.join([s.name for s in params] + [f'sign of {fr.name}' for fr in frictions])}]")
     mass = eqs.mass_matrix.xreplace(rename)
     forcing = forcing.xreplace(rename)
-    sources = [_rhs_source(mass, forcing, n, arguments, parameters, coordinates, doc),
-               _jac_source(mass, forcing, q_names, u_names, arguments, parameters, doc,
-                           coordinates)]
+    if eqs.constraints:      # closed loops: rhs solves M a = f + G' lambda, G a = -bias
+        from .loop_code import loop_sources
+        loops = loop_sources(eqs, mass, forcing, rename, arguments, parameters, doc)
+        sources = [loops.pop("rhs"), loops.pop("jac"), *loops.values()]
+    else:
+        sources = [_rhs_source(mass, forcing, n, arguments, parameters, coordinates, doc),
+                   _jac_source(mass, forcing, q_names, u_names, arguments, parameters, doc,
+                               coordinates)]
     grads = [r(g) for fr in frictions for g in fr.gradient]
     term_exprs = list(mass) + list(forcing) + grads + [r(fr.bias) for fr in frictions] \
         + [r(fr.magnitude) for fr in frictions] + [r(fr.rate) for fr in frictions]
@@ -273,6 +292,12 @@ def generate(eqs, scene, elements) -> tuple:
         "rigid": list(eqs.rigid),
         "time_functions": [c.func.__name__ for c in eqs.coordinates],
     }
+    if eqs.constraints:
+        meta["constraints"] = [c.name for c in eqs.constraints]
+        meta["independent"] = [eqs.q.index(q) for q in eqs.independent]
+        meta["multiplier_outputs"] = {label: meta["constraints"].index(label)
+                                      for label, _ in outputs
+                                      if label in meta["constraints"]}
     return meta, "\n".join(sources)
 
 
@@ -303,6 +328,9 @@ def _outputs(eqs, scene, elements) -> list:
                     raise SceneError(f"scene {scene.name!r}: output {item!r}: no load "
                                      f"{name!r} in the scene (loads: {sorted(eqs.powers)})")
                 result.append((label, eqs.powers[name]))
+                continue
+            if isinstance(elements.get(item), Constraint):   # its multipliers (simulate)
+                result += [(component, sp.S.Zero) for component in elements[item].labels]
                 continue
             result.append((label, _element_output(eqs, scene, item, elements)))
         else:

@@ -240,11 +240,16 @@ class Result:
         if not labels or not len(times):
             return {label: np.zeros(len(times)) for label in labels}
         frictions = self.compiled.frictions
+        multipliers = getattr(self.compiled, "multiplier_outputs", {})   # closed loops
 
         def evaluate(t, y, owner):
             segment = self.trajectory.segments[owner]
             p = self._base + segment.signs
             values = list(self.compiled.outputs(t, y, p))
+            if multipliers:
+                lam = self._run.loop_multipliers(t, y, p, segment.stuck)
+                for label, k in multipliers.items():
+                    values[labels.index(label)] = lam[k]
             if segment.stuck:
                 _, holding, _ = self._run._constrained(t, y, p, segment.stuck)
                 for i, label in enumerate(labels):

@@ -25,9 +25,11 @@ import numpy as np
 import sympy as sp
 from scipy.optimize import brentq
 
+from .assembly import closure_parts, project
 from .compile import SingularMassError, compile_scene
 from .elements import Link
 from .errors import ParameterError, SceneError, SimulationError
+from .loop_code import LOOP_MARGIN, LoopSingularError
 from .result import Event, Result, Trajectory
 from .scene import DEFAULT_ATOL, Scene
 from .stepping import METHODS, WITH_JACOBIAN, run_steps
@@ -112,11 +114,20 @@ def initial_state(compiled, mechanism, scene, params) -> np.ndarray:
                              "not a number") from None
         if not math.isfinite(y0[slots[slot]]):
             raise SceneError(f"scene {scene.name!r}: initial value of {key} is not finite")
-    missing = [compiled.state_names[i] for i in range(2 * n) if np.isnan(y0[i])]
+    # Closed loops: dependent speeds are solved, dependent positions are guesses.
+    solved = [n + i for i in range(n) if compiled.constraints and i not in compiled.independent]
+    missing = [compiled.state_names[i] for i in range(2 * n)
+               if np.isnan(y0[i]) and i not in solved]
     if missing:
+        guesses = (" and a guess for each dependent coordinate, which picks the assembly "
+                   "branch" if solved else "")
         raise SceneError(f"scene {scene.name!r}: missing initial values for "
                          f"{', '.join(missing)} (give them in initial={{q: ..., "
-                         "md.speed(q): ...}})")
+                         f"md.speed(q): ...}}{guesses})")
+    if compiled.constraints:
+        from .assembly import assemble
+        return assemble(compiled, y0, compiled.parameter_vector(params), scene.t_start,
+                        scene.name, [i for i in solved if not np.isnan(y0[i])])
     return y0
 
 
@@ -165,8 +176,12 @@ def choose_method(compiled, p, y0, t0, t_limit, rtol) -> str:
     """
     explicit = "DOP853" if rtol < 1e-6 else "RK45"
     try:
-        jacobian = compiled.jac(t0, y0, p)
-    except (ArithmeticError, ValueError):
+        if getattr(compiled, "constraints", None):   # closed loops: the allowed motion only
+            from .assembly import manifold_jacobian
+            jacobian = manifold_jacobian(compiled, t0, y0, p)
+        else:
+            jacobian = compiled.jac(t0, y0, p)
+    except (ArithmeticError, ValueError, SimulationError):
         return explicit                           # the integration will name the fault
     if not np.all(np.isfinite(jacobian)):
         return explicit
@@ -229,27 +244,45 @@ class _Run:
 
         Frictions along parallel directions (two brakes on one shaft) form one
         constraint; its holding force is shared in proportion to their magnitudes."""
+        a, _, holding, magnitude = self._kkt(t, y, p, stuck)
+        return a, holding, magnitude
+
+    def _kkt(self, t, y, p, stuck):
+        """``(a, loop multipliers, holding forces, magnitudes)`` with the closed loops'
+        constraints (always active) and the ``stuck`` frictions'."""
         mass, forcing, grads, bias, magnitude, rate = self._terms(t, y, p)
         n = self.n
         groups = _parallel_groups(grads, stuck)
         g = np.array([grads[members[0][0]] for members in groups]).reshape(len(groups), n)
-        m = len(groups)
+        b = np.array([bias[members[0][0]] for members in groups])
+        loops = 0
+        if self.c.constraints:
+            _, loop_grads, _, loop_bias = closure_parts(self.c, t, y, p)
+            loops = len(loop_grads)
+            g, b = np.vstack([loop_grads, g]), np.concatenate([loop_bias, b])
+        m = len(g)
         system = np.zeros((n + m, n + m))
         system[:n, :n] = mass
         system[:n, n:] = -g.T
         system[n:, :n] = g
-        rhs = np.concatenate([forcing, -np.array([bias[members[0][0]] for members in groups])])
+        rhs = np.concatenate([forcing, -b])
         try:
             solution = np.linalg.solve(system, rhs)
         except np.linalg.LinAlgError:
             raise SingularMassError(", ".join(self.c.coordinates), t, y) from None
         holding = np.zeros(len(stuck))
-        for lam, members in zip(solution[n:], groups):
+        for lam, members in zip(solution[n + loops:], groups):
             capacity = sum(abs(alpha) * magnitude[k] for k, alpha in members)
             for k, alpha in members:
                 share = magnitude[k] / capacity if capacity > 0 else 1.0 / len(members)
                 holding[stuck.index(k)] = lam * share * math.copysign(1.0, alpha)
-        return solution[:n], holding, magnitude
+        return solution[:n], solution[n:n + loops], holding, magnitude
+
+    def loop_multipliers(self, t, y, p, stuck):
+        """The closed loops' multipliers lambda at a state (``M a = f + G' lambda``)."""
+        if stuck:
+            return self._kkt(t, y, p, stuck)[1]
+        return np.array(self.c.multipliers(t, y, p))
 
     def _decide(self, t, y, forced=None):
         """Friction modes at a state: slide the way they move, else stick if they can.
@@ -282,13 +315,21 @@ class _Run:
         """Make the sliding rates of stuck frictions exactly zero (speeds projected with
         the mass matrix as metric, i.e. by an impulse)."""
         y = np.array(y, dtype=float)
+        if self.c.constraints:
+            y = project(self.c, t, y, self.base + mode.signs)
         if not mode.stuck:
             return y
         mass, _, grads, _, _, rate = self._terms(t, y, self.base + mode.signs)
         first = [members[0][0] for members in _parallel_groups(grads, mode.stuck)]
         g = grads[first]
-        w = np.linalg.solve(mass, g.T)
-        y[self.n:] -= w @ np.linalg.solve(g @ w, rate[first])
+        if self.c.constraints:      # least change keeping the loops' speeds closed
+            _, loop_grads, rate_t, _ = closure_parts(self.c, t, y, self.base + mode.signs)
+            rows = np.vstack([loop_grads, g])
+            residual = np.concatenate([loop_grads @ y[self.n:] + rate_t, rate[first]])
+            y[self.n:] -= np.linalg.lstsq(rows, residual, rcond=None)[0]
+        else:
+            w = np.linalg.solve(mass, g.T)
+            y[self.n:] -= w @ np.linalg.solve(g @ w, rate[first])
         for k in mode.stuck:
             if self.c.frozen[k] >= 0:
                 y[self.n + self.c.frozen[k]] = 0.0
@@ -337,7 +378,27 @@ class _Run:
                     _, lam, magnitude = self._constrained(t, y, p, mode.stuck)
                     return magnitude[k] - abs(lam[position]) + offset
                 watched.append((holding, -1, "release", k))
+        if self.c.constraints:          # closed loops: stop short of a singularity
+            def margin(t, y):
+                return self.c.loop_margin(t, y, p) - LOOP_MARGIN
+            if margin(t0, y0) <= 0:
+                self._loop_singular(t0, y0, p)
+            watched.append((margin, -1, "singular", 0))
         return watched
+
+    def _loop_singular(self, t, y, p):
+        """Raise the named error of a loop singularity at a state."""
+        from .assembly import _independent_text
+        raise LoopSingularError(_weakest_constraint(self.c, t, y, p), t, y,
+                                f" ({_independent_text(self.c, y)})")
+
+    def _drifted(self, t, y, p):
+        """True when the loops' positions or speeds have drifted beyond the tolerance
+        (rtol times the loops' size): the segment ends there and the state is projected."""
+        position, speed = self.c.drift(t, y, p)
+        size = self._loop_size
+        return position > self.scene.rtol * size or \
+            speed > self.scene.rtol * size * self._speed_scale
 
     # ------------------------------------------------------------------ driver
     def execute(self, y0) -> Result:
@@ -357,8 +418,15 @@ class _Run:
                 if outcome is None:
                     break
                 t, y, fired = outcome
+                kinds = {kind for kind, _ in fired}
+                if "singular" in kinds:
+                    self._loop_singular(t, y, self.base + mode.signs)
+                if "drift" in kinds:          # closed loops: back onto the constraints
+                    y = project(self.c, t, y, self.base + mode.signs)
+                    self.trajectory.replace_last_state(y)
+                    self.stats["projections"] = self.stats.get("projections", 0) + 1
                 stops = [i for kind, i in fired if kind == "stop"]
-                frictions = [(kind, i) for kind, i in fired if kind != "stop"]
+                frictions = [(kind, i) for kind, i in fired if kind in ("stick", "release")]
                 if frictions:
                     signs, released = list(mode.signs), {}
                     for kind, i in frictions:
@@ -400,6 +468,10 @@ class _Run:
         fun = _tolerant(raw_fun, (2 * self.n,))
         jac = _tolerant(jac, (2 * self.n, 2 * self.n)) if jac is not None else None
         watched = self._event_functions(mode, p, t0, y0)
+        if self.c.constraints:
+            _, loop_grads, _, _ = closure_parts(self.c, t0, y0, p)
+            self._loop_size = float(np.max(np.abs(loop_grads)))
+            self._speed_scale = 1.0 + float(np.max(np.abs(y0[self.n:])))
         self._mass_scale = float(np.max(np.abs(self._terms(t0, y0, p)[0])))
         rtol, atol = self.scene.rtol, self.atol
         self.stats["segments"] += 1
@@ -422,6 +494,9 @@ class _Run:
                 return True
             segment.add(t, y)
             state["g"] = g_new
+            if self.c.constraints and self._drifted(t, y, p):
+                state["fired"] = (t, y, [("drift", 0)])
+                return True
             return False
         try:
             status, message, t, y, counts = run_steps(self.method, fun, jac, t0, y0,
@@ -486,6 +561,21 @@ class _Run:
     def _result(self, reason) -> Result:
         return Result(self.c, self.trajectory, self.events, reason, dict(self.stats),
                       self.base, self.scene, self.mechanism_name, self.units, self)
+
+
+def _weakest_constraint(compiled, t, y, p):
+    """The constraint most nearly dependent on the others (the loop that locks)."""
+    _, grads, _, _ = closure_parts(compiled, t, y, p)
+    scaled = grads / np.linalg.norm(grads, axis=1, keepdims=True)
+    residuals = []
+    for k in range(len(scaled)):
+        others = np.delete(scaled, k, axis=0)
+        if not len(others):
+            residuals.append(np.linalg.norm(scaled[k]))
+            continue
+        fit = np.linalg.lstsq(others.T, scaled[k], rcond=None)[0]
+        residuals.append(np.linalg.norm(scaled[k] - others.T @ fit))
+    return compiled.constraints[int(np.argmin(residuals))]
 
 
 def _parallel_groups(grads, stuck):
