@@ -23,7 +23,7 @@ zero at a loop singularity) and ``drift`` (the largest ``|g|`` and ``|G u + dg/d
 >>> compiled = bead.compile(md.Scene("run", initial={x: 0, md.speed(x): 0}, t_end=1))
 >>> [round(v, 12) for v in compiled.rhs(0.0, [0.0, 0.0, 0.0, 0.0], compiled.parameter_vector({}))]
 [0.0, 0.0, 1.0, 1.0]
->>> compiled.multipliers(0.0, [0.0] * 4, [])    # the line pushes y with 2 N (lambda G')
+>>> [round(v, 12) for v in compiled.multipliers(0.0, [0.0] * 4, [])]   # 2 N pushes y up
 [2.0]
 """
 from __future__ import annotations
