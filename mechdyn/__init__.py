@@ -36,6 +36,8 @@ _LAZY = {
     **dict.fromkeys(["steady_running", "flywheel", "SteadyRunning", "Flywheel"],
                     "fluctuation"),
     "work_precision": "precision", "WorkPrecision": "precision",
+    **dict.fromkeys(["Linkage", "LinkageError", "Sweep", "Singularity", "Grashof",
+                     "grashof"], "linkage"),
 }
 _LAZY_MODULES = {"reduction"}
 
