@@ -14,13 +14,13 @@ quick-return time ratio.
 >>> rocker = md.Mechanism("triple rocker", [phi, th2, th3])
 >>> for name, angle in [("input", phi), ("coupler", th2), ("output", th3)]:
 ...     _ = rocker.link(name, J=1, angle=angle)
->>> _ = rocker.loop("loop", (3, phi), (3.5, th2), (-5, th3), (-2, 0))
+>>> _ = rocker.loop("ABCD", (3, phi), (3.5, th2), (-5, th3), (-2, 0))
 >>> linkage = md.Linkage(rocker, guess={phi: np.pi, th2: 1.2, th3: 2.2})
 >>> low, high = linkage.crank_range()         # coupler and rocker folded: |AD| = 5 - 3.5
 >>> [round(float(np.degrees(x)), 6) for x in (low, high)]   # 13 - 12 cos(phi) = 1.5^2
 [26.38433, 333.61567]
 >>> str(linkage.singularities()[0])
-'toggle of loop loop at phi = 0.460494695 rad (26.3846 deg)'
+'toggle of loop ABCD at phi = 0.460493425 rad (26.3843 deg)'
 
 """
 from __future__ import annotations
