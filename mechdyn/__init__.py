@@ -38,6 +38,8 @@ _LAZY = {
     "work_precision": "precision", "WorkPrecision": "precision",
     **dict.fromkeys(["Linkage", "LinkageError", "Sweep", "Singularity", "Grashof",
                      "grashof"], "linkage"),
+    **dict.fromkeys(["kinetostatics", "shaking", "Kinetostatics", "Reaction",
+                     "KinetostaticsError"], "joint_reactions"),
 }
 _LAZY_MODULES = {"reduction"}
 

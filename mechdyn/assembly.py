@@ -152,26 +152,25 @@ def _independent_text(compiled, y):
 
 
 def manifold_jacobian(compiled, t, y, p):
-    """The Jacobian of the right-hand side restricted to the loops' state manifold
-    (``g = 0``, ``g' = 0``): ``N' J N`` with ``N`` an orthonormal basis of its tangent
-    space. Its eigenvalues are those of the motion the loops allow (the full Jacobian
-    adds spurious ones along the constraint directions)."""
-    from scipy.linalg import null_space
+    """The linearised motion the loops allow, for the choice of integrator: with the
+    loops' speed basis ``S`` (``u = S u_i``), reduced mass ``S'MS``, stiffness
+    ``-S' df/dq S`` and damping ``-S' df/du S`` (analytic derivatives), the matrix
+    ``[[0, I], [-M_r^-1 K_r, -M_r^-1 C_r]]``. (The full Jacobian adds spurious
+    eigenvalues along the constraints; the terms from the curvature of the loops are
+    left out, they do not make a linkage stiff.)"""
     n = compiled.dof
     y = np.asarray(y, dtype=float)
     _, grads, _, _ = closure_parts(compiled, t, y, p)
-
-    def speed_residual(q):
-        _, g_q, rate_t, _ = closure_parts(compiled, t, np.concatenate([q, y[n:]]), p)
-        return g_q @ y[n:] + rate_t
-    slopes = np.zeros_like(grads)
-    for j in range(n):
-        h = 1e-7 * max(1.0, abs(y[j]))
-        up, down = y[:n].copy(), y[:n].copy()
-        up[j] += h
-        down[j] -= h
-        slopes[:, j] = (speed_residual(up) - speed_residual(down)) / (2 * h)
-    m = len(grads)
-    constraint = np.block([[grads, np.zeros((m, n))], [slopes, grads]])
-    basis = null_space(constraint)
-    return basis.T @ compiled.jac(t, y, p) @ basis
+    independent = list(compiled.independent)
+    dependent = [i for i in range(n) if i not in independent]
+    k = len(independent)
+    basis = np.zeros((n, k))
+    basis[independent, range(k)] = 1.0
+    basis[dependent] = -np.linalg.solve(grads[:, dependent], grads[:, independent])
+    v = np.asarray(compiled.linear_terms(t, y, p), dtype=float)
+    mass, f_q, f_u = (v[i * n * n:(i + 1) * n * n].reshape(n, n) for i in range(3))
+    f_q, f_u = f_q.T, f_u.T                     # generated column by column
+    reduced = basis.T @ mass @ basis
+    stiffness = np.linalg.solve(reduced, basis.T @ f_q @ basis)
+    damping = np.linalg.solve(reduced, basis.T @ f_u @ basis)
+    return np.block([[np.zeros((k, k)), np.eye(k)], [stiffness, damping]])

@@ -84,7 +84,7 @@ class CompiledScene:
         self.constraints = meta.get("constraints", [])
         self.independent = meta.get("independent", list(range(self.dof)))
         self.multiplier_outputs = meta.get("multiplier_outputs", {})
-        for name in ("multipliers", "closure", "loop_margin", "drift"):
+        for name in ("multipliers", "closure", "loop_margin", "drift", "linear_terms"):
             setattr(self, name, names.get(name))
         self.rhs = names["rhs"]
         self._jac = names["jac"]
@@ -238,6 +238,7 @@ def generate(eqs, scene, elements) -> tuple:
     output_exprs = [_friction_signed(e, eqs, signs) for e in output_exprs]
     everything = [eqs.mass_matrix, forcing, eqs.kinetic_energy, eqs.potential_energy]
     everything += [fr.magnitude for fr in frictions] + [e for _, e in stops] + output_exprs
+    everything += [c.expression for c in eqs.constraints]       # a loop's ground length
     known = set(eqs.q) | set(eqs.u) | {t} | set(signs)
     params = sorted(set().union(*(sp.sympify(e).free_symbols for e in everything)) - known,
                     key=lambda s: s.name)

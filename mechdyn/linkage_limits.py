@@ -218,7 +218,7 @@ def _four_bar(self):
     roles = {"ground": g, "crank": c, "coupler": (g + 2) % 4, "rocker": (c + 2) % 4}
     lengths = {}
     for role, k in roles.items():
-        length = terms[k][0].xreplace(values)
+        length = sp.sympify(terms[k][0]).xreplace(values)
         if not length.is_number:
             raise LinkageError(f"four-bar term {k + 1}: length {terms[k][0]} is not constant")
         lengths[role] = float(length)

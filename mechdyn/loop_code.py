@@ -10,7 +10,8 @@ together with the loops' acceleration constraints (index 1). Written out in scal
 
 ``A`` and ``S`` are factored by unrolled Cholesky (``S`` loses rank where the loops do:
 a change point). Also generated: ``multipliers`` (lambda), ``closure`` (g, G, dg/dt and
-bias, for assembly and projection), ``loop_margin`` (the smallest pivot of ``S`` relative
+bias, for assembly and projection), ``linear_terms`` (M, df/dq, df/du, for the method
+choice), ``loop_margin`` (the smallest pivot of ``S`` relative
 to its diagonal, ``sin^2`` of the angle between a constraint gradient and the others:
 zero at a loop singularity) and ``drift`` (the largest ``|g|`` and ``|G u + dg/dt|``).
 
@@ -95,6 +96,7 @@ def loop_sources(eqs, mass, forcing, rename, arguments, parameters, doc) -> dict
     }
     sources.update(_closure_sources(grads, values, rate_t, bias, arguments, parameters,
                                     doc, n))
+    sources["linear_terms"] = linear_source(mass, forcing, arguments, parameters, doc, n)
     return sources
 
 
@@ -175,6 +177,18 @@ def _closure_sources(grads, values, rate_t, bias, arguments, parameters, doc, n)
             "jac": "def jac(t, y, p):\n    return numeric_jacobian(rhs, t, y, p)\n"}
 
 
+def linear_source(mass, forcing, arguments, parameters, doc, n):
+    """``linear_terms`` -> [M, df/dq, df/du] (each n x n, row by row): the analytic
+    linearisation the method choice reduces to the loops' motion (a piecewise load
+    makes finite differences of the right-hand side useless there)."""
+    q = [sp.Symbol(name) for name in arguments[:n]]
+    u = [sp.Symbol(name) for name in arguments[n:]]
+    exprs = list(mass) + [sp.diff(forcing[i], v) for v in (*q,) for i in range(n)] \
+        + [sp.diff(forcing[i], v) for v in (*u,) for i in range(n)]
+    return function_source("linear_terms", arguments, parameters, exprs,
+                           "return [" + "{}, " * len(exprs) + "]", doc)
+
+
 def _numpy_sources(mass, forcing, grads, bias, rate_t, values, n, m, arguments, parameters,
                    doc, labels):
     """Beyond the unrolling limit: the pieces in generated code, the solve in numpy."""
@@ -191,6 +205,7 @@ def _numpy_sources(mass, forcing, grads, bias, rate_t, values, n, m, arguments, 
     }
     sources.update(_closure_sources(grads, values, rate_t, bias, arguments, parameters,
                                     doc, n))
+    sources["linear_terms"] = linear_source(mass, forcing, arguments, parameters, doc, n)
     return sources
 
 

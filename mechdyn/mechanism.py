@@ -115,9 +115,11 @@ class Mechanism:
         mass, rotation ``angle`` (expressions of the coordinates)."""
         return self.add(Link(name, m=m, J=J, x=x, y=y, angle=angle, tags=tags))
 
-    def load(self, name, value, along, efficiency=None, tags=()) -> Load:
-        """A force or moment ``value`` acting along ``along`` (see :class:`Load`)."""
-        return self.add(Load(name, value=value, along=along, efficiency=efficiency, tags=tags))
+    def load(self, name, value, along, efficiency=None, tags=(), on=()) -> Load:
+        """A force or moment ``value`` acting along ``along`` (see :class:`Load`);
+        ``on``: the link (or two links) it acts on, for joint reactions."""
+        return self.add(Load(name, value=value, along=along, efficiency=efficiency,
+                             tags=tags, on=on))
 
     def spring(self, name, k, stretch, tags=()) -> Spring:
         """A linear spring of stiffness ``k`` on ``stretch``."""
