@@ -40,6 +40,7 @@ _LAZY = {
                      "grashof"], "linkage"),
     **dict.fromkeys(["kinetostatics", "shaking", "Kinetostatics", "Reaction",
                      "KinetostaticsError"], "joint_reactions"),
+    **dict.fromkeys(["balance", "Balance", "Counterweight"], "balancing"),
 }
 _LAZY_MODULES = {"reduction"}
 

@@ -116,14 +116,14 @@ class _Model:
             from .linkage import Linkage
             self.linkage = Linkage(mech, params, guess, scene)
         self.links = {n: e for n, e in mech.elements.items() if isinstance(e, Link)}
-        self.values = {s: float(v) for s, v in
+        self.values = {s: sp.Float(float(v)) for s, v in
                        ((k if isinstance(k, sp.Symbol) else sp.Symbol(str(k)), v)
                         for k, v in self.params.items())}
         self.names = tuple(str(q) for q in eqs.q)
         self._compile()
 
     def _plain(self, expr):
-        return self.eqs.to_plain(sp.sympify(expr)).xreplace(self.values)
+        return sp.sympify(self.eqs.to_plain(sp.sympify(expr)).xreplace(self.values))
 
     def _compile(self):
         eqs, n = self.eqs, self.eqs.dof

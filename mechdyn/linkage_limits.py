@@ -189,7 +189,7 @@ def extremes(self, coordinate, start=None, points=721) -> list:
                 q = self.position(value)
                 return self.velocity_matrix(q)[row, 0]
             angle = sweep.phi[j] if ratio[j] == 0 else brentq(
-                slope, sweep.phi[j], sweep.phi[j + 1], xtol=1e-14, rtol=4e-16)
+                slope, sweep.phi[j], sweep.phi[j + 1], xtol=1e-14, rtol=1e-15)
             self.position(sweep.phi[j])
             out.append((float(angle), float(self.position(angle)[row])))
     self.position(sweep_start)
@@ -206,7 +206,7 @@ def _four_bar(self):
         raise LinkageError(f"{self.mechanism.name!r} is not a four-bar (one loop of four "
                            "terms); Grashof's criterion and its transmission angle need one")
     terms = [(self.eqs.to_plain(l), self.eqs.to_plain(a)) for l, a in loops[0].terms]
-    values = {s: v for s, v in zip(self.functions.params, self.p)}
+    values = {s: sp.Float(v) for s, v in zip(self.functions.params, self.p)}
     crank_symbol = self.eqs.q[self.independent[0]]
     ground = [k for k, (_, a) in enumerate(terms) if not (a.free_symbols & set(self.eqs.q))]
     crank = [k for k, (_, a) in enumerate(terms) if a.free_symbols & set(self.eqs.q)
