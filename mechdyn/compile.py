@@ -74,17 +74,18 @@ class CompiledScene:
         self.frozen = meta["frozen"]
         self.stop_labels = meta["stop_labels"]
         self.output_labels = meta["output_labels"]
-        from .loop_code import LoopSingularError, loop_solve, numeric_jacobian
+        from .loop_code import LoopSingularError, loop_solve, numeric_jacobian, numeric_minors
         names = compile_source(source, {"SingularMassError": SingularMassError,
                                         "LoopSingularError": LoopSingularError,
                                         "numeric_jacobian": numeric_jacobian,
-                                        "_loop_solve": loop_solve})
+                                        "_loop_solve": loop_solve,
+                                        "_numeric_minors": numeric_minors})
         # Closed loops (empty without): constraint labels, the generated closure
         # functions (see loop_code), and outputs that are loop multipliers.
         self.constraints = meta.get("constraints", [])
         self.independent = meta.get("independent", list(range(self.dof)))
         self.multiplier_outputs = meta.get("multiplier_outputs", {})
-        for name in ("multipliers", "closure", "loop_margin", "drift", "linear_terms"):
+        for name in ("multipliers", "closure", "loop_minors", "drift", "linear_terms"):
             setattr(self, name, names.get(name))
         self.rhs = names["rhs"]
         self._jac = names["jac"]
@@ -295,6 +296,8 @@ def generate(eqs, scene, elements) -> tuple:
     }
     if eqs.constraints:
         meta["constraints"] = [c.name for c in eqs.constraints]
+        meta["loops"] = [next(n for n, e in elements.items() if isinstance(e, Constraint)
+                              and c.name in e.labels) for c in eqs.constraints]
         meta["independent"] = [eqs.q.index(q) for q in eqs.independent]
         meta["multiplier_outputs"] = {label: meta["constraints"].index(label)
                                       for label, _ in outputs

@@ -11,9 +11,10 @@ together with the loops' acceleration constraints (index 1). Written out in scal
 ``A`` and ``S`` are factored by unrolled Cholesky (``S`` loses rank where the loops do:
 a change point). Also generated: ``multipliers`` (lambda), ``closure`` (g, G, dg/dt and
 bias, for assembly and projection), ``linear_terms`` (M, df/dq, df/du, for the method
-choice), ``loop_margin`` (the smallest pivot of ``S`` relative
-to its diagonal, ``sin^2`` of the angle between a constraint gradient and the others:
-zero at a loop singularity) and ``drift`` (the largest ``|g|`` and ``|G u + dg/dt|``).
+choice), ``loop_minors`` (the ``m x m`` minors of ``G``: all vanish where the loops
+lose rank, and a minor changes sign there, so the driver watches the largest as an
+event) and ``drift`` (the largest ``|g|``
+and ``|G u + dg/dt|``).
 
 >>> import sympy as sp, mechdyn as md
 >>> x, y = md.coordinates("x y")
@@ -29,6 +30,9 @@ zero at a loop singularity) and ``drift`` (the largest ``|g|`` and ``|G u + dg/d
 """
 from __future__ import annotations
 
+import itertools
+import math
+
 import numpy as np
 import sympy as sp
 
@@ -36,12 +40,14 @@ from .codegen import function_source
 from .errors import SimulationError
 from .symbols import t
 
-__all__ = ["LoopSingularError", "loop_sources", "numeric_jacobian"]
+__all__ = ["LoopSingularError", "loop_sources", "numeric_jacobian", "numeric_minors",
+           "loop_solve", "LOOP_MARGIN"]
 
 # Smallest pivot of S, relative to its diagonal, the generated rhs accepts (below it the
-# loops have lost rank numerically); the driver watches LOOP_MARGIN as an event.
+# loops have lost rank numerically). Where a watched minor changes sign the driver calls
+# the loops singular if every minor is below LOOP_MARGIN times its size at the start.
 _PIVOT_FLOOR = 1e-14
-LOOP_MARGIN = 1e-8
+LOOP_MARGIN = 1e-6
 
 
 class LoopSingularError(SimulationError):
@@ -57,7 +63,7 @@ class LoopSingularError(SimulationError):
 
 
 def loop_sources(eqs, mass, forcing, rename, arguments, parameters, doc) -> dict:
-    """Sources of ``rhs``, ``multipliers``, ``closure``, ``loop_margin``, ``drift`` and
+    """Sources of ``rhs``, ``multipliers``, ``closure``, ``loop_minors``, ``drift`` and
     ``jac`` for equations with constraints (``mass``, ``forcing`` already renamed to the
     generated names by ``rename``)."""
     n, m = eqs.dof, len(eqs.constraints)
@@ -89,15 +95,35 @@ def loop_sources(eqs, mass, forcing, rename, arguments, parameters, doc) -> dict
                                        "return [" + ", ".join(
                                            f"nu{k} + w * {b[k]}" for k in range(m)) + "]",
                                        doc, lines),
-        "loop_margin": function_source("loop_margin", arguments, parameters, exprs,
-                                       f"return min({', '.join(f'r{k}' for k in range(m))}"
-                                       + (", 1.0" if m == 1 else "") + ")",
-                                       doc, lines[:_margin_end(lines)]),
     }
     sources.update(_closure_sources(grads, values, rate_t, bias, arguments, parameters,
                                     doc, n))
     sources["linear_terms"] = linear_source(mass, forcing, arguments, parameters, doc, n)
+    sources["loop_minors"] = _minors_source(grads, arguments, parameters, doc)
     return sources
+
+
+def _minors_source(grads, arguments, parameters, doc):
+    """``loop_minors`` -> every m x m minor of G (symbolic up to C(n, m) = 10 minors,
+    numpy beyond)."""
+    m, n = len(grads), len(grads[0])
+    if math.comb(n, m) > 10:
+        flat = [e for row in grads for e in row]
+        return function_source("loop_minors", arguments, parameters, flat,
+                               "return _numeric_minors([" + "{}, " * len(flat)
+                               + f"], {m}, {n})", doc)
+    matrix = sp.Matrix(grads)
+    minors = [matrix[:, list(columns)].det(method="berkowitz")
+              for columns in itertools.combinations(range(n), m)]
+    return function_source("loop_minors", arguments, parameters, minors,
+                           "return [" + "{}, " * len(minors) + "]", doc)
+
+
+def numeric_minors(flat, m, n):
+    """Every m x m minor of the m x n matrix ``flat``."""
+    matrix = np.reshape(flat, (m, n))
+    return [float(np.linalg.det(matrix[:, list(c)]))
+            for c in itertools.combinations(range(n), m)]
 
 
 def _factor_lines(n, m, lower, g, f, b, labels):
@@ -138,7 +164,6 @@ def _factor_lines(n, m, lower, g, f, b, labels):
         lines.append(f"P{k} = {acc}")
         lines.append(f"r{k} = P{k} / S{k}_{k} if S{k}_{k} > 0 else 0.0")
         lines.append(f"K{k}_{k} = sqrt(P{k}) if P{k} > 0 else 1e-300")
-    lines.append("#margin")
     for k in range(m):
         lines.append(f"if not r{k} > {_PIVOT_FLOOR!r}: "
                      f"raise LoopSingularError({labels[k]!r}, t, y)")
@@ -152,10 +177,6 @@ def _factor_lines(n, m, lower, g, f, b, labels):
         terms = [f"y{k}_{i} * nu{k}" for k in range(m)]
         lines.append(f"a{i} = z{i} + {' + '.join(terms)}")
     return lines, zero
-
-
-def _margin_end(lines):
-    return lines.index("#margin")
 
 
 def _closure_sources(grads, values, rate_t, bias, arguments, parameters, doc, n):
@@ -200,17 +221,16 @@ def _numpy_sources(mass, forcing, grads, bias, rate_t, values, n, m, arguments, 
                                f"return list(y[{n}:]) + list({call}[0])", doc),
         "multipliers": function_source("multipliers", arguments, parameters, exprs,
                                        f"return list({call}[1])", doc),
-        "loop_margin": function_source("loop_margin", arguments, parameters, exprs,
-                                       f"return {call}[2]", doc),
     }
     sources.update(_closure_sources(grads, values, rate_t, bias, arguments, parameters,
                                     doc, n))
     sources["linear_terms"] = linear_source(mass, forcing, arguments, parameters, doc, n)
+    sources["loop_minors"] = _minors_source(grads, arguments, parameters, doc)
     return sources
 
 
 def loop_solve(flat, y, n, m, t_value, labels, error):
-    """``(a, lambda, margin)`` from the flattened ``M``, ``f``, ``G``, ``bias`` (numpy)."""
+    """``(a, lambda)`` from the flattened ``M``, ``f``, ``G``, ``bias`` (numpy)."""
     flat = np.asarray(flat, dtype=float)
     mass = flat[:n * n].reshape(n, n)
     forcing = flat[n * n:n * n + n]
@@ -230,7 +250,7 @@ def loop_solve(flat, y, n, m, t_value, labels, error):
     if not ratios[k] > _PIVOT_FLOOR:
         raise error(labels[k], t_value, y)
     nu = np.linalg.solve(schur, -bias - grads @ z)
-    return z + y_cols @ nu, nu + w * bias, float(ratios.min())
+    return z + y_cols @ nu, nu + w * bias
 
 
 def numeric_jacobian(rhs, t_value, y, p):

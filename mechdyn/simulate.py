@@ -225,6 +225,7 @@ class _Run:
                       "segments": 0, "failed_steps": 0}
         self.mechanism_name = mechanism.name
         self.units = getattr(mechanism, "units", {})
+        self._minor_scale = None     # closed loops: size of G's largest minor at the start
 
     # ------------------------------------------------------------- friction
     def _terms(self, t, y, p):
@@ -378,12 +379,16 @@ class _Run:
                     _, lam, magnitude = self._constrained(t, y, p, mode.stuck)
                     return magnitude[k] - abs(lam[position]) + offset
                 watched.append((holding, -1, "release", k))
-        if self.c.constraints:          # closed loops: stop short of a singularity
-            def margin(t, y):
-                return self.c.loop_margin(t, y, p) - LOOP_MARGIN
-            if margin(t0, y0) <= 0:
+        if self.c.constraints:   # closed loops: the largest minor of G changes sign ...
+            minors = np.abs(self.c.loop_minors(t0, y0, p))
+            k = int(np.argmax(minors))
+            if self._minor_scale is None:
+                self._minor_scale = minors[k]          # at the assembled start
+            if minors[k] < LOOP_MARGIN * self._minor_scale:
                 self._loop_singular(t0, y0, p)
-            watched.append((margin, -1, "singular", 0))
+            start = self.c.loop_minors(t0, y0, p)[k]
+            watched.append(((lambda t, y, k=k: self.c.loop_minors(t, y, p)[k]),
+                            -math.copysign(1, start), "minor", k))
         return watched
 
     def _loop_singular(self, t, y, p):
@@ -419,8 +424,11 @@ class _Run:
                     break
                 t, y, fired = outcome
                 kinds = {kind for kind, _ in fired}
-                if "singular" in kinds:
-                    self._loop_singular(t, y, self.base + mode.signs)
+                if "minor" in kinds and np.max(np.abs(self.c.loop_minors(
+                        t, y, self.base + mode.signs))) < LOOP_MARGIN * self._minor_scale:
+                    self._loop_singular(t, y, self.base + mode.signs)  # ... all at once
+                    # (else one minor passed zero at a regular position: a new segment
+                    # watches the largest minor there)
                 if "drift" in kinds:          # closed loops: back onto the constraints
                     y = project(self.c, t, y, self.base + mode.signs)
                     self.trajectory.replace_last_state(y)
@@ -575,7 +583,7 @@ def _weakest_constraint(compiled, t, y, p):
             continue
         fit = np.linalg.lstsq(others.T, scaled[k], rcond=None)[0]
         residuals.append(np.linalg.norm(scaled[k] - others.T @ fit))
-    return compiled.constraints[int(np.argmin(residuals))]
+    return compiled.meta["loops"][int(np.argmin(residuals))]
 
 
 def _parallel_groups(grads, stuck):
