@@ -259,12 +259,29 @@ class Mechanism:
         return self._derived[key]
 
     def reduced_inertia(self, scene=None):
-        """The reduced (equivalent) moment of inertia of a one-DOF mechanism."""
-        return self.equations(scene).reduced_inertia
+        """The reduced (equivalent) moment of inertia of a one-DOF mechanism; with
+        closed loops an expression of the crank angle and the dependent coordinates."""
+        eqs = self.equations(scene)
+        if eqs.constraints:
+            from .transmission import reduced_inertia
+            return reduced_inertia(eqs)
+        return eqs.reduced_inertia
 
     def reduced_moment(self, scene=None):
         """The reduced moment of a one-DOF mechanism (includes gravity and springs)."""
-        return self.equations(scene).reduced_moment
+        eqs = self.equations(scene)
+        if eqs.constraints:
+            from .transmission import reduced_moment
+            return reduced_moment(eqs)
+        return eqs.reduced_moment
+
+    def transmission_functions(self, order=1, scene=None) -> dict:
+        """Of a one-DOF linkage: ``dq/dphi`` (``order=1``) or ``d2q/dphi2`` (2, written
+        in the first-order ones, ``theta_2'``) of each dependent coordinate, by its
+        plain symbol; expressions of the crank angle and the dependent coordinates."""
+        from .transmission import ratios, second_ratios
+        eqs = self.equations(scene)
+        return ratios(eqs) if order == 1 else second_ratios(eqs)
 
     def latex(self, scene=None) -> str:
         """The derivation as LaTeX: energies, forces, reduced quantities, equations."""
