@@ -22,7 +22,7 @@ also given in the transmission functions themselves, ``theta_2'``, as textbooks 
 >>> ratios(yoke.equations())[sp.Symbol("x")]
 -sin(phi)
 >>> reduced_inertia(yoke.equations())
-2 - cos(2*phi)
+2*sin(phi)**2 + 1
 """
 from __future__ import annotations
 
@@ -65,7 +65,16 @@ def _split(eqs):
 
 
 def velocity_matrix(eqs) -> sp.Matrix:
-    """``S`` (n x k): ``u = S u_i``, the speeds of all coordinates from the independent."""
+    """``S`` (n x k): ``u = S u_i``, the speeds of all coordinates from the independent
+    (kept with the equations: simplifying it is the slow part)."""
+    cached = getattr(eqs, "_velocity_matrix", None)
+    if cached is None:
+        cached = _velocity_matrix(eqs)
+        eqs._velocity_matrix = cached
+    return cached
+
+
+def _velocity_matrix(eqs) -> sp.Matrix:
     grads, independent, dependent = _split(eqs)
     k = len(independent)
     dependent_part = -grads[:, dependent].LUsolve(grads[:, independent])
@@ -108,8 +117,8 @@ def reduced_inertia_in_ratios(eqs) -> sp.Expr:
 def reduced_inertia(eqs) -> sp.Expr:
     """``I_red`` of a one-DOF linkage in the positions (transmission functions
     substituted): an expression of the crank angle and the dependent coordinates."""
-    return _tidy(reduced_inertia_in_ratios(eqs).xreplace(
-        {ratio_symbol(q): r for q, r in ratios(eqs).items()}))
+    return reduced_inertia_in_ratios(eqs).xreplace(
+        {ratio_symbol(q): r for q, r in ratios(eqs).items()})
 
 
 def reduced_moment(eqs) -> sp.Expr:
@@ -142,9 +151,10 @@ def _one_dof(eqs, what):
 
 
 def _tidy(expr):
+    """Simplified when small and free of piecewise loads (simplify is slow on those)."""
     if isinstance(expr, sp.MatrixBase):
         return expr.applyfunc(_tidy)
-    if sp.count_ops(expr) > _SIMPLIFY_LIMIT:
+    if sp.count_ops(expr) > _SIMPLIFY_LIMIT or expr.has(sp.Piecewise):
         return expr
     simpler = sp.simplify(expr)
     return simpler if sp.count_ops(simpler) <= sp.count_ops(expr) else expr
