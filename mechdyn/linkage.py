@@ -313,9 +313,16 @@ class Linkage:
                 return name
         return label
 
+    def plot(self, path=None, points=361, paths=None):
+        """Transmission functions, ``I_red`` and its slope, the transmission angle and
+        the paths of ``paths`` (name -> point ``(x, y)``: coupler curves) over a crank
+        revolution (:func:`mechdyn.linkage_plots.plot_linkage`)."""
+        from .linkage_plots import plot_linkage
+        return plot_linkage(self, path, points, paths)
+
     # Analyses in their own module, bound here: singularities, ranges, four-bars.
-    from .linkage_limits import (coupler_curve, crank_range, extremes, grashof,  # noqa: E402
-                                 singularities, transmission_angle)
+    from .linkage_limits import (coupler_curve, crank_range, describe,  # noqa: E402
+                                 extremes, grashof, singularities, transmission_angle)
 
 
 class _Functions:

@@ -30,7 +30,7 @@ import sympy as sp
 from scipy.optimize import brentq, minimize_scalar, root
 
 __all__ = ["singularities", "crank_range", "extremes", "grashof", "transmission_angle",
-           "coupler_curve"]
+           "coupler_curve", "describe"]
 
 _CHANGE_POINT = 1e-7         # sigma_min / sigma_max of G below this: a change point
 
@@ -260,3 +260,51 @@ def _as_function(self, expr):
     """A plain-symbol expression back in the coordinates (functions of t)."""
     back = {sp.Symbol(name): q for name, q in zip(self.names, self.eqs.coordinates)}
     return expr.xreplace(back)
+
+
+def describe(self, points=361) -> str:
+    """A few lines on the linkage over a crank revolution: Grashof's class (four-bars),
+    the crank's range and singular positions, each dependent coordinate's extremes,
+    the range of ``I_red`` and of the transmission angle."""
+    from .linkage import LinkageError
+    from .linkage_plots import revolution
+    crank = self.names[self.independent[0]]
+    lines = [f"{self.mechanism.name}: crank {crank}, dependent "
+             f"{', '.join(self.names[i] for i in self.dependent)}"]
+    deg = np.degrees
+    try:
+        lines.append(f"  Grashof: {grashof(self)}")
+    except LinkageError:
+        pass
+    start = self._last[self.independent[0]]
+    limits = crank_range(self, start, points)
+    found = singularities(self, start, points)
+    lines.append("  the crank turns fully" if limits is None else
+                 f"  crank range {deg(limits[0]):.4f} .. {deg(limits[1]):.4f} deg "
+                 "(beyond it the loops cannot be closed on this branch)")
+    lines += [f"  {item}" for item in found] or ["  no toggle position or change point"]
+    self.position(start)
+    for i in self.dependent:
+        ends = extremes(self, self.names[i], start, points)
+        text = ", ".join(f"{deg(v):.4f} deg at {crank} = {deg(a):.4f} deg" for a, v in ends)
+        lines.append(f"  {self.names[i]} extremes: {text or 'none (turns fully)'}")
+        if len(ends) == 2 and limits is None:
+            forward = (ends[1][0] - ends[0][0]) % (2 * np.pi)
+            lines.append(f"    swing {abs(deg(ends[1][1] - ends[0][1])):.4f} deg, crank "
+                         f"angles {deg(forward):.4f} / {360 - deg(forward):.4f} deg, time "
+                         f"ratio {max(forward, 2 * np.pi - forward) / min(forward, 2 * np.pi - forward):.4f}")
+    self.position(start)
+    sweep = revolution(self, points)
+    low, high = np.argmin(sweep.inertia), np.argmax(sweep.inertia)
+    lines.append(f"  I_red: {sweep.inertia[low]:.6g} .. {sweep.inertia[high]:.6g} kg m^2 "
+                 f"(at {crank} = {deg(sweep.phi[low]):.1f}, {deg(sweep.phi[high]):.1f} deg), "
+                 f"mean {np.mean(sweep.inertia[:-1] if limits is None else sweep.inertia):.6g}")
+    try:
+        mu = deg(transmission_angle(self, sweep))
+        worst = int(np.argmax(np.abs(mu - 90)))
+        lines.append(f"  transmission angle: {mu.min():.2f} .. {mu.max():.2f} deg, farthest "
+                     f"from 90 deg at {crank} = {deg(sweep.phi[worst]):.1f} deg")
+    except LinkageError:
+        pass
+    self.position(start)
+    return "\n".join(lines)

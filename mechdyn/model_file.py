@@ -1,4 +1,6 @@
-"""Loading model files: Python files that define ``mechanism``, ``params`` and ``scenes``.
+"""Loading model files: Python files that define ``mechanism``, ``params`` and ``scenes``
+(and, for linkages, optionally ``points``: name -> ``(x, y)``, points whose paths
+``mechdyn linkage`` draws, such as a coupler point).
 
 A model file is the user's own code and runs like any script. Values typed on the command
 line are parsed by :mod:`mechdyn.parse`, never evaluated.
@@ -32,6 +34,7 @@ class Model:
     params: dict = field(default_factory=dict)
     scenes: dict = field(default_factory=dict)
     doc: str = ""
+    points: dict = field(default_factory=dict)     # name -> (x, y): coupler points
 
     def scene(self, name: str) -> Scene:
         """The scene called ``name``, with a clear error listing the others."""
@@ -73,7 +76,7 @@ def load_model(path) -> Model:
         if not isinstance(scene, Scene):
             raise ModelFileError(f"{path}: scenes[{name!r}] is not a md.Scene")
     return Model(path, mechanism, dict(namespace.get("params") or {}), scenes,
-                 (namespace.get("__doc__") or "").strip())
+                 (namespace.get("__doc__") or "").strip(), dict(namespace.get("points") or {}))
 
 
 def _line_in(error, path) -> str:

@@ -51,6 +51,10 @@ work = sp.Piecewise((-M_w, md.speed(theta_3) > 0), (0, True))
 mechanism.load("work", work, along=theta_3, tags=["process"])
 mechanism.gravity()
 
+coupler_mid = (A[0] + b / 2 * sp.cos(theta_2), A[1] + b / 2 * sp.sin(theta_2))
+points = {"P": (coupler_mid[0] - 0.1 * sp.sin(theta_2),          # 0.1 m off the coupler
+                coupler_mid[1] + 0.1 * sp.cos(theta_2))}          # (its coupler curve)
+
 params = {a: 0.1, b: 0.35, c: 0.3, d: 0.4, J_1: 0.002, J_f: 0.25, m_2: 1.5, m_3: 1.2,
           M_0: 40.0, omega_0: 40.0, M_w: 15.0}
 
