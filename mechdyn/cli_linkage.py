@@ -40,9 +40,13 @@ def _linkage(args):
           f"peak {driving[np.argmax(np.abs(driving))]:.6g}, rms "
           f"{np.sqrt(np.mean(driving ** 2)):.6g}")
     for name, reaction in result.reactions.items():
-        peak = int(np.argmax(reaction.magnitude))
-        print(f"  joint {name} ({reaction.kind}): peak force {reaction.magnitude[peak]:.6g} N "
-              f"at {np.degrees(angles[peak]) % 360:.1f} deg")
+        if reaction.kind == "weld":
+            values, what, unit = np.abs(reaction.moment), "moment", "N m"
+        else:
+            values, what, unit = reaction.magnitude, "force", "N"
+        peak = int(np.argmax(values))
+        print(f"  joint {name} ({reaction.kind}): peak {what} {values[peak]:.6g} {unit} at "
+              f"{np.degrees(angles[peak]) % 360:.1f} deg")
     shaking = np.hypot(*result.shaking_force)
     print(f"  shaking force peak {shaking.max():.6g} N, shaking moment peak "
           f"{np.max(np.abs(result.shaking_moment)):.6g} N m")
