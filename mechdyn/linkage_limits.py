@@ -181,15 +181,17 @@ def extremes(self, coordinate, start=None, points=721) -> list:
                        else np.linspace(low, high, points))
     row = sweep._row(coordinate)
     ratio = sweep.ratio[row]
+    small = 1e-12 * max(float(np.max(np.abs(ratio))), 1e-300)
+    ratio = np.where(np.abs(ratio) <= small, 0.0, ratio)
     out = []
     for j in range(len(ratio) - 1):
-        if ratio[j] == 0 or ratio[j] * ratio[j + 1] < 0:
+        if ratio[j] == 0 and (not out or out[-1][0] != sweep.phi[j]) and 0 < j:
+            out.append((float(sweep.phi[j]), float(sweep.q[row, j])))
+        elif ratio[j] * ratio[j + 1] < 0:
             def slope(value, j=j):
                 self.position(sweep.phi[j])
-                q = self.position(value)
-                return self.velocity_matrix(q)[row, 0]
-            angle = sweep.phi[j] if ratio[j] == 0 else brentq(
-                slope, sweep.phi[j], sweep.phi[j + 1], xtol=1e-14, rtol=1e-15)
+                return self.velocity_matrix(self.position(value))[row, 0]
+            angle = brentq(slope, sweep.phi[j], sweep.phi[j + 1], xtol=1e-14, rtol=1e-15)
             self.position(sweep.phi[j])
             out.append((float(angle), float(self.position(angle)[row])))
     self.position(sweep_start)
@@ -285,12 +287,15 @@ def describe(self, points=361) -> str:
     lines += [f"  {item}" for item in found] or ["  no toggle position or change point"]
     self.position(start)
     for i in self.dependent:
+        unit = self.mechanism.units.get(self.names[i], "rad")
+        shown = (lambda v: f"{deg(v):.4f} deg") if unit == "rad" else \
+            (lambda v, unit=unit: f"{v:.6g} {unit}")
         ends = extremes(self, self.names[i], start, points)
-        text = ", ".join(f"{deg(v):.4f} deg at {crank} = {deg(a):.4f} deg" for a, v in ends)
+        text = ", ".join(f"{shown(v)} at {crank} = {deg(a):.4f} deg" for a, v in ends)
         lines.append(f"  {self.names[i]} extremes: {text or 'none (turns fully)'}")
         if len(ends) == 2 and limits is None:
             forward = (ends[1][0] - ends[0][0]) % (2 * np.pi)
-            lines.append(f"    swing {abs(deg(ends[1][1] - ends[0][1])):.4f} deg, crank "
+            lines.append(f"    stroke {shown(abs(ends[1][1] - ends[0][1]))}, crank "
                          f"angles {deg(forward):.4f} / {360 - deg(forward):.4f} deg, time "
                          f"ratio {max(forward, 2 * np.pi - forward) / min(forward, 2 * np.pi - forward):.4f}")
     self.position(start)
