@@ -142,23 +142,35 @@ class Linkage:
         v = self.functions.closure(0.0, np.concatenate([q, np.zeros(self.n)]), self.p)
         return np.array(v[:self.m]), np.array(v[self.m:]).reshape(self.m, self.n)
 
-    def _newton(self, q):
-        """Close the loops from ``q`` moving the dependent coordinates; None if it fails."""
+    def _newton(self, q, damped=False):
+        """Close the loops from ``q`` moving the dependent coordinates; None if it fails.
+        Near a solution (continuation) a step must halve the residual, else the toggle
+        is near; ``damped`` (from a user's guess) halves steps until the residual falls."""
         q = np.array(q, dtype=float)
         g, grads = self.closure(q)
         tolerance = _TOLERANCE * max(float(np.abs(grads).max()), 1e-300) * \
             (1 + float(np.abs(q).max()))
         residual = float(np.abs(g).max())
-        for _ in range(_NEWTON_STEPS):
+        for _ in range(4 * _NEWTON_STEPS if damped else _NEWTON_STEPS):
             if residual <= tolerance:
                 return q
             try:
-                q[self.dependent] -= np.linalg.solve(grads[:, self.dependent], g)
+                step = np.linalg.lstsq(grads[:, self.dependent], g, rcond=None)[0] if damped \
+                    else np.linalg.solve(grads[:, self.dependent], g)
             except np.linalg.LinAlgError:
                 return None
-            g, grads = self.closure(q)
-            previous, residual = residual, float(np.abs(g).max())
-            if not residual < 0.5 * previous and residual > 1e3 * tolerance:
+            previous = residual
+            for _ in range(30 if damped else 1):
+                trial = q.copy()
+                trial[self.dependent] -= step
+                g, grads = self.closure(trial)
+                residual = float(np.abs(g).max())
+                if residual < previous or not damped:
+                    break
+                step = step / 2
+            q = trial
+            if not np.isfinite(residual) or (not damped and not residual < 0.5 * previous
+                                               and residual > 1e3 * tolerance):
                 return None          # not converging quadratically: near a toggle
         return q if residual <= 1e3 * tolerance else None
 
@@ -180,7 +192,7 @@ class Linkage:
     def _walk(self, q, target):
         """Continue from ``q`` to the independent values ``target``. Returns the
         positions there (or None) and the last independent values reached."""
-        start = self._newton(q)
+        start = self._newton(q, damped=True)
         if start is None:
             return None, q[self.independent]
         q = start

@@ -44,7 +44,7 @@ def plot_linkage(linkage, path=None, points=361, paths=None):
         ax.plot(degrees, sweep.second[i], ls="--", color=line.get_color(),
                 label=f"d²{sweep.names[i]}/d{crank}²")
     ax.set_title("transmission functions")
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=7, ncol=2)
     ax = axes[0, 1]
     ax.plot(degrees, sweep.inertia, color="C0", label="I_red")
     ax.set_ylabel("I_red [kg m²]", color="C0")
@@ -65,12 +65,23 @@ def _transmission_panel(linkage, sweep, ax, degrees):
     from .linkage import LinkageError
     try:
         angle = np.degrees(linkage.transmission_angle(sweep))
-    except LinkageError:
+    except LinkageError:            # not a four-bar: the dependent positions instead
+        units = linkage.mechanism.units
+        lengths = [i for i in linkage.dependent if units.get(sweep.names[i], "rad") != "rad"]
         for i in linkage.dependent:
-            ax.plot(degrees, np.degrees(sweep.q[i]), label=sweep.names[i])
-        ax.set_ylabel("position [deg]")
+            if i not in lengths:
+                ax.plot(degrees, np.degrees(sweep.q[i]), label=f"{sweep.names[i]} [deg]")
+        ax.set_ylabel("angle [deg]")
+        if lengths:
+            twin = ax.twinx()
+            for k, i in enumerate(lengths):
+                unit = units[sweep.names[i]]
+                twin.plot(degrees, sweep.q[i], ls="--", color=f"C{k + 5}",
+                          label=f"{sweep.names[i]} [{unit}]")
+            twin.set_ylabel("displacement (dashed)")
+            twin.legend(fontsize=7, loc="lower right")
         ax.set_title("dependent coordinates")
-        ax.legend(fontsize=8)
+        ax.legend(fontsize=7, loc="upper left")
         return
     ax.plot(degrees, angle, color="C2", label="transmission angle")
     ax.axhspan(40, 140, color="C2", alpha=0.08, label="40° .. 140°")
@@ -94,7 +105,9 @@ def _paths_panel(linkage, sweep, ax, paths):
         if np.ptp(x) + np.ptp(y) > 0:
             ax.plot(x, y, color="grey", lw=0.8)
         start[name] = (x[0], y[0])
-        ax.annotate(name, start[name], fontsize=8, xytext=(3, 3), textcoords="offset points")
+        if joint.kind == "revolute":
+            ax.annotate(name, start[name], fontsize=8, xytext=(3, 3),
+                        textcoords="offset points")
     for k, (name, point) in enumerate(paths.items()):
         x, y = linkage.coupler_curve(point, sweep)
         ax.plot(x, y, color=f"C{k}", lw=1.6, label=f"path of {name}")
