@@ -371,3 +371,17 @@ def test_a_change_point_stops_the_simulation_with_a_named_error_and_partial_resu
     partial = error.value.partial
     assert np.all(np.isfinite(partial.y))
     assert abs(partial.final(phi) - np.pi) < 1e-6        # all links in line at phi = pi
+
+
+def test_driving_moment_of_a_linkage_along_a_prescribed_motion():
+    mech, (phi, th2, th3) = four_bar(loads=True)
+    needed = md.driving_moment(mech, md.uniform_rotation(15), {}, drive="motor",
+                               guess={th2: 1.2, th3: 1.9})
+    times = np.linspace(0, 2 * np.pi / 15, 7)
+    statics = md.kinetostatics(mech, {}, 15 * times, omega=15.0, drive="motor",
+                               guess={th2: 1.2, th3: 1.9})
+    assert np.allclose(needed.at(times), statics.driving, rtol=1e-9, atol=1e-9)
+    # over a revolution at constant speed the inertia terms and every moment of the
+    # position alone (gravity, the work moment -3 cos(theta_3)) do no net work
+    assert abs(needed.mean) < 1e-9 * needed.peak
+    assert phi in mech.coordinates and "phiddot" in str(needed.expression)
