@@ -295,9 +295,10 @@ def describe(self, points=361) -> str:
         lines.append(f"  {self.names[i]} extremes: {text or 'none (turns fully)'}")
         if len(ends) == 2 and limits is None:
             forward = (ends[1][0] - ends[0][0]) % (2 * np.pi)
+            slow, fast = max(forward, 2 * np.pi - forward), min(forward, 2 * np.pi - forward)
             lines.append(f"    stroke {shown(abs(ends[1][1] - ends[0][1]))}, crank "
                          f"angles {deg(forward):.4f} / {360 - deg(forward):.4f} deg, time "
-                         f"ratio {max(forward, 2 * np.pi - forward) / min(forward, 2 * np.pi - forward):.4f}")
+                         f"ratio {slow / fast:.4f}")
     self.position(start)
     sweep = revolution(self, points)
     low, high = np.argmin(sweep.inertia), np.argmax(sweep.inertia)
