@@ -235,6 +235,14 @@ class Linkage:
                                                   grads[:, self.independent])
         return matrix
 
+    def reduced_mass_matrix(self, q):
+        """``S' M S`` (k x k) at the closed positions ``q``: the mass matrix of the
+        independent coordinates (``I_red`` for one)."""
+        matrix = self.velocity_matrix(q)
+        y = np.concatenate([q, np.zeros(self.n)])
+        mass = np.array(self.functions.mass(0.0, y, self.p)).reshape(self.n, self.n)
+        return matrix.T @ mass @ matrix
+
     def _second(self, q, ratio):
         """``d2q/dphi2`` from ``G_d q_d'' = -bias(q, q')`` (independent: zero)."""
         _, grads = self.closure(q)

@@ -10,6 +10,17 @@ its magnitude; a stuck element releases (an event on ``magnitude - |lambda|``) a
 the way the net force pushes. A coordinate held by a stuck friction keeps exactly zero
 speed. No ``sign()`` chattering, no smoothing creep.
 
+Closed loops (``Equations.constraints``, see :mod:`mechdyn.loop_code`): the initial
+state is assembled (:func:`mechdyn.assembly.assemble`: Newton on the dependent positions
+from the scene's guesses, ``G u = -dg/dt`` for the dependent speeds); the generated
+``rhs`` solves ``M a = f + G' lambda``, ``G a = -bias`` with the loops always active (and
+``_kkt`` stacks them with stuck frictions); after a step where the drift ``|g|`` or
+``|G u + dg/dt|`` exceeds rtol times the loop's size the segment ends there and the state
+is projected back (:func:`mechdyn.assembly.project`); the largest minor of ``G`` is
+watched as an event, and where it changes sign with every minor small the run stops
+with :class:`~mechdyn.loop_code.LoopSingularError`; a loop's name as an output records
+its multipliers (:meth:`_Run.loop_multipliers`).
+
 >>> import mechdyn as md
 >>> model = md.load_model("models/shoe_brake.py")
 >>> res = model.mechanism.simulate(model.scenes["braking"], model.params)

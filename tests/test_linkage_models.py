@@ -73,6 +73,8 @@ def test_five_bar_with_two_independent_cranks():
     assert np.allclose(a + 3 * np.array([math.cos(q[2]), math.sin(q[2])]), point, atol=1e-12)
     speeds = linkage.velocity_matrix(q)            # u = S [phi_1', phi_2']
     assert speeds.shape == (4, 2) and np.allclose(speeds[:2], np.eye(2))
+    # kinetic energy of unit inertias: sum of squared angular speeds = u_i' (S'S) u_i
+    assert np.allclose(linkage.reduced_mass_matrix(q), speeds.T @ speeds, rtol=1e-12)
     with pytest.raises(md.LinkageError, match="2 independent coordinates"):
         linkage.sweep([0.1, 0.2])
 
