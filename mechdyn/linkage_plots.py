@@ -97,8 +97,7 @@ def _transmission_panel(linkage, sweep, ax, degrees):
 def _paths_panel(linkage, sweep, ax, paths):
     """Joint paths (grey), the linkage at the sweep's first position (bars between the
     joints of each link, dots at its points) and the paths of ``paths``."""
-    joints = {name: joint for name, joint in linkage.mechanism.joints.items()
-              if joint.kind != "weld"}
+    joints = linkage.mechanism.joints
     start = {}
     for name, joint in joints.items():
         x, y = linkage.coupler_curve(joint.at, sweep)
