@@ -385,3 +385,43 @@ def test_driving_moment_of_a_linkage_along_a_prescribed_motion():
     # position alone (gravity, the work moment -3 cos(theta_3)) do no net work
     assert abs(needed.mean) < 1e-9 * needed.peak
     assert phi in mech.coordinates and "phiddot" in str(needed.expression)
+
+
+def test_prismatic_guide_reaction_of_a_slider_crank_with_a_massless_rod():
+    """The rod is a two-force member: its force on the slider lies along BA; the slider
+    (mass m3, no gravity) gives its x part m3 s'', the guide takes its y part."""
+    r, length, m3, omega = 0.05, 0.2, 2.0, 40.0
+    phi, th, s = md.coordinates("phi theta s")
+    mech = md.Mechanism("slider-crank", [phi, th, s], units={s: "m"})
+    mech.link("crank", J=0.01, angle=phi)
+    mech.link("rod", angle=th)                                  # massless
+    mech.link("slider", m=m3, x=s)
+    mech.loop("loop", (r, phi), (length, th), (-s, 0))
+    mech.joint("O", ("frame", "crank"), at=(0, 0))
+    mech.joint("A", ("crank", "rod"), at=(r * sp.cos(phi), r * sp.sin(phi)))
+    mech.joint("B", ("rod", "slider"), at=(s, 0))
+    mech.joint("guide", ("frame", "slider"), at=(s, 0), kind="prismatic", direction=0)
+    angles = np.linspace(0.1, 2 * np.pi, 12)
+    statics = md.kinetostatics(mech, {}, angles, omega=omega, guess={th: -0.1, s: 0.25})
+
+    def stroke(x):
+        return r * np.cos(x) + np.sqrt(length**2 - (r * np.sin(x)) ** 2)
+    h = 1e-3
+    s_dd = omega**2 * (-stroke(angles + 2 * h) + 16 * stroke(angles + h) - 30 * stroke(angles)
+                       + 16 * stroke(angles - h) - stroke(angles - 2 * h)) / (12 * h * h)
+    along = np.array([r * np.cos(angles) - stroke(angles), r * np.sin(angles)])   # B -> A
+    force_x = m3 * s_dd
+    force_y = force_x * along[1] / along[0]
+    scale = np.max(np.abs(force_x))
+    assert np.allclose(statics.reactions["B"].x, force_x, atol=1e-6 * scale)
+    assert np.allclose(statics.reactions["B"].y, force_y, atol=1e-6 * scale)
+    guide = statics.reactions["guide"]
+    assert np.allclose(guide.normal, -force_y, atol=1e-6 * scale)
+    assert np.allclose(guide.y, -force_y, atol=1e-6 * scale) and np.allclose(guide.x, 0)
+    assert np.allclose(guide.moment, 0, atol=1e-9 * scale)
+    # the rod's mass matrix is singular (no inertia in theta): the loop still moves it
+    free = md.Scene("free", initial={phi: 0.1, md.speed(phi): omega, th: -0.1, s: 0.25},
+                    t_end=1.0)
+    result = mech.simulate(free, {})
+    kinetic, potential = result.energy()
+    assert np.max(np.abs(kinetic + potential - kinetic[0])) < 1e-8 * kinetic[0]
