@@ -355,6 +355,24 @@ def test_unassemblable_start_is_named_with_the_crank_angle():
     assert error.value.independent == {"phi": 0.1}
 
 
+def test_a_non_grashof_crank_swings_back_at_its_toggle_positions():
+    """Coupler and rocker in line lock the crank, not the full coordinates: the crank
+    stops exactly at the toggle angle (law of cosines) and swings back, energy kept."""
+    phi, th2, th3 = md.coordinates("phi theta_2 theta_3")
+    rocker = md.Mechanism("triple rocker", [phi, th2, th3])
+    for name, angle in (("input", phi), ("coupler", th2), ("output", th3)):
+        rocker.link(name, J=1, angle=angle)
+    rocker.loop("loop", (3, phi), (3.5, th2), (-5, th3), (-2, 0))
+    scene = md.Scene("swing", initial={phi: np.pi, md.speed(phi): 3, th2: 1.2, th3: 2.2},
+                     t_end=10)
+    result = rocker.simulate(scene, {})
+    limit = math.acos((13 - 1.5**2) / 12)
+    assert abs(result[phi].min() - limit) < 1e-6
+    assert abs(result[phi].max() - (2 * np.pi - limit)) < 1e-6
+    kinetic, potential = result.energy()
+    assert np.ptp(kinetic + potential) < 1e-8 * kinetic[0]
+
+
 def test_a_change_point_stops_the_simulation_with_a_named_error_and_partial_result():
     phi, th2, th3 = md.coordinates("phi theta_2 theta_3")
     parallelogram = md.Mechanism("parallelogram", [phi, th2, th3])
