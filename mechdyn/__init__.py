@@ -39,6 +39,11 @@ _LAZY = {
     "work_precision": "precision", "WorkPrecision": "precision",
     "characteristic": "characteristics", "Characteristic": "characteristics",
     "to_si": "units", "UnitError": "units", "animate": "animation", "Film": "animation",
+    **dict.fromkeys(["Linkage", "LinkageError", "CrankSweep", "Singularity", "Grashof",
+                     "grashof"], "linkage"),
+    **dict.fromkeys(["kinetostatics", "shaking", "Kinetostatics", "Reaction",
+                     "KinetostaticsError"], "joint_reactions"),
+    **dict.fromkeys(["balance", "Balance", "Counterweight"], "balancing"),
 }
 _LAZY_MODULES = {"reduction", "units"}
 

@@ -713,7 +713,8 @@ class DrivingMoment:
         return max(values[i], -best.fun)
 
 
-def driving_moment(mech, motion, params=None, scene=None, drive=None) -> DrivingMoment:
+def driving_moment(mech, motion, params=None, scene=None, drive=None,
+                   guess=None) -> DrivingMoment:
     """The driving moment a one-DOF machine needs to follow ``motion`` (inverse dynamics).
 
     ``M_drive = I_red(phi) eps + 1/2 I_red'(phi) omega^2 - M_red,other(phi, omega, t)``,
@@ -732,6 +733,9 @@ def driving_moment(mech, motion, params=None, scene=None, drive=None) -> Driving
         Selects the loads (all when None).
     drive : str, optional
         Name or tag of the drive loads to leave out of ``M_red,other``.
+    guess : dict, optional
+        With closed loops: the dependent coordinates near the assembly wanted (see
+        :mod:`mechdyn.linkage_drive`; the statistics are evaluated numerically there).
 
     Returns
     -------
@@ -752,6 +756,9 @@ def driving_moment(mech, motion, params=None, scene=None, drive=None) -> Driving
     if not isinstance(motion, Motion):
         raise AnalyticError(f"driving_moment: motion must be a md.Motion (from "
                             f"md.uniform_rotation or md.uniform_acceleration), got {motion!r}")
+    if mech.constraints:
+        from .linkage_drive import loop_driving_moment
+        return loop_driving_moment(mech, motion, params, scene, drive, guess)
     eqs, subs, inertia, other = _reduced(mech, scene, params, "driving_moment", drive)
     q, u, a = eqs.q[0], eqs.u[0], eqs.a[0]
     other, _ = _fix_friction_sign(other, q, u, motion.direction)

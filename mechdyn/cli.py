@@ -1,6 +1,8 @@
 """The ``mechdyn`` command.
 
     mechdyn equations models/scotch_yoke.py [--format latex|text] [--scene NAME [--solve]]
+
+(``mechdyn linkage``, for closed loops, is in :mod:`mechdyn.cli_linkage`.)
 """
 from __future__ import annotations
 
@@ -582,6 +584,8 @@ def build_parser() -> argparse.ArgumentParser:
     _add_periodic_command(commands)
     _add_characteristic_command(commands)
     _add_animate_command(commands)
+    from .cli_linkage import add_linkage_command
+    add_linkage_command(commands)
     for command in commands.choices.values():
         command.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
                              help="show the traceback of an error")

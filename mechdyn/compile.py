@@ -80,8 +80,21 @@ class CompiledScene:
         self.layout = {name: (offset, tuple(shape)) for name, offset, shape in meta["terms"]}
         self._sizes = {"terms": sum(int(np.prod(shape)) for _, shape in self.layout.values()),
                        "events": len(self.event_kinds), "outputs": len(self.output_labels)}
+        from . import loop_code
         self.raw = compile_source(source, {"spd_solve": _spd_solve,
-                                           "jac_assemble": _jac_assemble})
+                                           "jac_assemble": _jac_assemble,
+                                           "numeric_jacobian": loop_code.numeric_jacobian,
+                                           "numeric_minors": loop_code.numeric_minors,
+                                           "loop_solve": loop_code.loop_solve})
+        # Closed loops (empty without): constraint labels, the independent coordinates,
+        # outputs that are loop multipliers; loop functions in loop_code's docstring.
+        self.constraints = meta.get("constraints", [])
+        self.independent = meta.get("independent", list(range(self.dof)))
+        self.multiplier_outputs = meta.get("multiplier_outputs", {})
+        n, m = self.dof, len(self.constraints)
+        self._sizes.update({"multipliers": m, "closure": 3 * m + m * n, "drift": 2,
+                            "loop_minors": math.comb(n, m) if m else 0,
+                            "linear_terms": 3 * n * n})
 
     # -------------------------------------------------------- Python-level calls
     def rhs(self, t_value, y, p) -> list:
@@ -118,6 +131,26 @@ class CompiledScene:
     def outputs(self, t_value, y, p) -> list:
         """Values of the requested outputs."""
         return self._call("outputs", t_value, y, p)
+
+    def multipliers(self, t_value, y, p) -> list:
+        """Closed loops: the constraint forces ``lambda`` (``M a = f + G' lambda``)."""
+        return self._call("multipliers", t_value, y, p)
+
+    def closure(self, t_value, y, p) -> list:
+        """Closed loops: ``[g..., G row by row..., dg/dt..., bias...]``."""
+        return self._call("closure", t_value, y, p)
+
+    def drift(self, t_value, y, p) -> list:
+        """Closed loops: ``[max |g|, max |G u + dg/dt|]``."""
+        return self._call("drift", t_value, y, p)
+
+    def loop_minors(self, t_value, y, p) -> list:
+        """Closed loops: every ``m x m`` minor of ``G``."""
+        return self._call("loop_minors", t_value, y, p)
+
+    def linear_terms(self, t_value, y, p) -> list:
+        """``[M, df/dq, df/du]``, each ``n x n`` row by row."""
+        return self._call("linear_terms", t_value, y, p)
 
     def energy(self, t_value, y, p) -> list:
         """Kinetic and potential energy ``[T, V]``."""
@@ -193,7 +226,7 @@ def _generator_hash() -> str:
     here = Path(__file__).parent
     digest = hashlib.sha256()
     for module in ("derive.py", "codegen.py", "generate.py", "compile.py", "elements.py",
-                   "symbols.py"):
+                   "symbols.py", "loop_code.py"):
         digest.update((here / module).read_bytes())
     return digest.hexdigest()[:16]
 
@@ -210,6 +243,8 @@ def declaration_key(mechanism, scene) -> str:
         parts.append([type(element).__name__, element.name, list(element.tags),
                       sorted((k, sp.srepr(v)) for k, v in element.expressions().items())])
     parts += [list(names), [list(r) for r in rigid]]
+    if mechanism.constraints:
+        parts.append([q.func.__name__ for q in mechanism.independent])
     if scene is not None:
         parts.append([[label, sp.srepr(o) if isinstance(o, sp.Basic) else str(o)]
                       for label, o in scene.labelled_outputs()])

@@ -24,11 +24,12 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from .elements import Damper, Friction, Gravity, Link, Load, Spring
+from .elements import (Constraint, Damper, Friction, Gravity, Link, Load, Spring,
+                       is_structural)
 from .errors import DerivationError
 from .symbols import dotted_symbol, t
 
-__all__ = ["Equations", "FrictionTerm", "derive"]
+__all__ = ["Equations", "FrictionTerm", "ConstraintTerm", "derive"]
 
 
 @dataclass(frozen=True)
@@ -43,6 +44,18 @@ class FrictionTerm:
     bias: sp.Expr
 
 
+@dataclass(frozen=True)
+class ConstraintTerm:
+    """A scalar holonomic constraint ``g(q, t) = 0`` of a closed loop in plain symbols:
+    its ``expression`` g, its ``gradient`` dg/dq (a column over ``Equations.q``) and the
+    velocity and time part of its second derivative (``g'' = gradient . q'' + bias``).
+    With constraints the equations read ``M q'' = f + G' lambda``, ``G q'' = -bias``."""
+    name: str
+    expression: sp.Expr
+    gradient: sp.Matrix
+    bias: sp.Expr
+
+
 @dataclass
 class Equations:
     """Lagrange's equations of a mechanism (or of a scene's selection of it).
@@ -52,7 +65,9 @@ class Equations:
     ``kinetic_energy``, ``potential_energy``, ``dissipation``, ``generalized_forces``
     (element name -> column), ``powers`` (element name -> power), ``frictions``,
     ``eliminated`` (coordinate -> expression, from rigid springs), ``elements`` (names
-    included), ``excluded`` (names left out), ``rigid`` (names made rigid).
+    included), ``excluded`` (names left out), ``rigid`` (names made rigid),
+    ``constraints`` (the closed loops' :class:`ConstraintTerm` s: ``M a = f + G' lambda``
+    with ``G a = -bias``), ``independent`` (plain symbols of the independent coordinates).
     """
     name: str
     coordinates: tuple
@@ -74,6 +89,8 @@ class Equations:
     rheonomic: bool
     links: dict = field(default_factory=dict)
     to_plain: object = None
+    constraints: tuple = ()
+    independent: tuple = ()
 
     # --------------------------------------------------------------- the system
     @property
@@ -158,7 +175,7 @@ def derive(mechanism, element_names=None, rigid=()) -> Equations:
     the springs in ``rigid`` (pairs ``(spring name, coordinate name or None)``) rigid."""
     elements = mechanism.elements
     if element_names is None:
-        element_names = tuple(n for n, e in elements.items() if not isinstance(e, Link))
+        element_names = tuple(n for n, e in elements.items() if not is_structural(e))
     rigid_names = tuple(name for name, _ in rigid)
     coords = list(mechanism.coordinates)
     plain_of = {q: dotted_symbol(q.func.__name__, 0) for q in coords}
@@ -241,16 +258,19 @@ def derive(mechanism, element_names=None, rigid=()) -> Equations:
         forces[name] = column
         powers[name] = sp.Add(*[column[i] * u[i] for i in range(len(q)) if column[i] != 0])
 
+    constraints = _constraint_terms(mechanism, to_plain, gradient, rate, q, u)
+    constrained = {qi for c in constraints for qi, g in zip(q, c.gradient) if g != 0}
     mass, inertial = _lagrange(kinetic, q, u)
     for i, qi in enumerate(q):
-        if mass[i, i] == 0:
+        if mass[i, i] == 0 and qi not in constrained:
             raise DerivationError(
                 f"mechanism {mechanism.name!r}: no inertia in coordinate {qi}: no link's "
                 "mass or moment of inertia moves with it (give a link m or J that moves "
                 "with it, or make its spring rigid in the scene)")
-    _check_regular(mass, q, mechanism.name)
+    if not constraints:     # with loops M need only be regular on the loops' motions
+        _check_regular(mass, q, mechanism.name)
     excluded = tuple(n for n, e in elements.items()
-                     if not isinstance(e, Link) and n not in element_names)
+                     if not is_structural(e) and n not in element_names)
     return Equations(
         name=mechanism.name, coordinates=tuple(kept), q=q, u=u, a=a,
         mass_matrix=mass, inertial_forcing=inertial, kinetic_energy=kinetic,
@@ -259,7 +279,28 @@ def derive(mechanism, element_names=None, rigid=()) -> Equations:
         eliminated={c: expr for c, expr in eliminated.items()},
         elements=tuple(n for n in element_names if n not in rigid_names),
         excluded=excluded, rigid=rigid_names, rheonomic=rheonomic, links=link_plain,
-        to_plain=to_plain)
+        to_plain=to_plain, constraints=constraints,
+        independent=tuple(plain_of[c] for c in mechanism.independent if c in kept))
+
+
+def _constraint_terms(mechanism, to_plain, gradient, rate, q, u) -> tuple:
+    """The scalar constraints of the mechanism's loops, with gradients and biases."""
+    terms = []
+    for element in mechanism.elements.values():
+        if not isinstance(element, Constraint):
+            continue
+        for label, g in zip(element.labels, element.equations):
+            expr = to_plain(g)
+            grad = gradient(expr)
+            if all(entry == 0 for entry in grad):
+                raise DerivationError(
+                    f"constraint {label} = {g} does not depend on the coordinates "
+                    f"{', '.join(map(str, q))} (after rigid springs are eliminated)")
+            speed = rate(expr, grad)
+            bias = sp.Add(*[_diff(speed, qi) * ui for qi, ui in zip(q, u)],
+                          _diff(speed, t))
+            terms.append(ConstraintTerm(label, expr, grad, bias))
+    return tuple(terms)
 
 
 def _lagrange(kinetic, q, u):

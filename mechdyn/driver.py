@@ -26,9 +26,10 @@ from .errors import SimulationError
 from .events import Event, EventWatch
 from .friction import FrictionModes, Mode
 from .methods import (STIFF, StiffnessMonitor, choose_method, explicit_for, fallbacks,
-                      segment_tolerances)
+                      motion_jacobian, segment_tolerances)
 from .result import Result
 from .stepping import EXPLICIT, WITH_JACOBIAN, ScipySegment
+from .loop_watch import LoopWatch
 from .trajectory import Segment, Trajectory
 
 __all__ = ["Budget", "Driver"]
@@ -72,6 +73,7 @@ class Driver:
         self.switch_index = [i for i, (kind, _) in enumerate(kinds) if kind == "switch"]
         self.stop_directions = [c.direction for c in scene.until]
         self.max_step = self._max_step(compiled)
+        self.loops = LoopWatch(compiled, scene.rtol)
 
     # ------------------------------------------------------------------ the run
     def run(self, y0) -> Result:
@@ -97,6 +99,10 @@ class Driver:
                     self._failed = []
                 if outcome.status == "finished":
                     break
+                if outcome.status == "drift":          # closed loops: back onto them
+                    y = self.modes.project(t, y, mode)
+                    self.stats["projections"] = self.stats.get("projections", 0) + 1
+                    continue
                 if outcome.status == "stiff":
                     if method in EXPLICIT:
                         method, why = self._switch(t, method, STIFF, "the explicit method "
@@ -153,7 +159,7 @@ class Driver:
         watch = self._watch(mode, p, t0, y0, muted)
         monitor = None
         if self.auto and method in EXPLICIT | {STIFF} and not mode.groups:
-            monitor = StiffnessMonitor(method, lambda t, y: self.c.jac(t, y, p),
+            monitor = StiffnessMonitor(method, lambda t, y: motion_jacobian(self.c, t, y, p),
                                        self.scene.rtol)
         rtol, atol = self.scene.rtol, self.atol
         if self.auto:
@@ -164,7 +170,7 @@ class Driver:
         span = self.scene.time_limit - self.scene.t_start
         run = ScipySegment(method, fun, jac, t0, y0, t_end, rtol, atol,
                            segment, watch, monitor, first_step=h, max_step=max_step,
-                           min_step=_COLLAPSE * span)
+                           min_step=_COLLAPSE * span, drift=self.loops.drifted(y0, p))
         counted = dict.fromkeys(("steps", "nfev", "njev", "nlu"), 0)
         while True:
             outcome = run.advance(_CHUNK)
@@ -179,7 +185,7 @@ class Driver:
             self._report(outcome.t, t_end)
             if outcome.status == "chunk":
                 continue
-            if outcome.status in ("event", "finished", "stiff"):
+            if outcome.status in ("event", "finished", "stiff", "drift"):
                 self._check_finite(outcome.t, outcome.y)
             return outcome, run.h
 
@@ -196,8 +202,13 @@ class Driver:
         zero_before = [False] * len(chosen)
         directions += [d for _, _, d in friction]
         zero_before += [True] * len(friction)
+        minor = self.loops.watched_minor(t0, y0, p)        # closed loops' singularity
+        if minor is not None:
+            directions.append(minor[1])
+            zero_before.append(False)
         self._watch_map = [("compiled", i) for i in chosen] + \
-            [("friction", j) for j in range(len(friction))]
+            [("friction", j) for j in range(len(friction))] + \
+            ([("minor", minor[0])] if minor is not None else [])
         self._friction_watched = friction
         if not directions:
             return None
@@ -206,7 +217,10 @@ class Driver:
             out = [0.0] * size
             compiled_events(t, _floats(y), p, out)
             chosen_values = [out[i] for i in chosen]
-            return np.array(chosen_values + self.modes.event_values(t, y, mode, friction))
+            chosen_values += self.modes.event_values(t, y, mode, friction)
+            if minor is not None:
+                chosen_values.append(self.c.loop_minors(t, y, p)[minor[0]])
+            return np.array(chosen_values)
         interior = 2 if mode.groups else 0
         watch = EventWatch(values, directions, zero_before, interior)
         locked = {k: mode.flags[self.switch_index.index(i)]
@@ -219,6 +233,8 @@ class Driver:
         """The stop, the new mode, the state and the muted switches after events."""
         t = float(t)
         kinds = [self._watch_map[i] for i in fired]
+        if any(source == "minor" for source, _ in kinds):
+            self.loops.check_singular(t, y, self.modes.p(mode))   # else a regular crossing
         stops = [i for source, i in kinds if source == "compiled" and i in self.stop_index]
         switches = {i for source, i in kinds if source == "compiled" and i in self.switch_index}
         muted = self._chattering(t, switches, muted)
@@ -333,9 +349,18 @@ class Driver:
             self.progress(t, t_end)
 
     def _check_mass(self, t, y):
-        """Refuse a start where the mass matrix is not positive definite."""
-        mass = self.c.terms(t, y, self.modes.p(Mode(tuple([0.0] * self.modes.k))))["mass"]
+        """Refuse a start where the mass matrix is not positive definite (on the motions
+        closed loops allow)."""
+        terms = self.c.terms(t, y, self.modes.p(Mode()))
+        mass = terms["mass"]
         self.mass_scale = float(np.max(np.abs(mass), initial=0.0))
+        if self.c.constraints:
+            from .friction import _allowed_motions
+            basis = _allowed_motions(terms["constraint_gradient"], self.n)
+            mass = basis.T @ mass @ basis
+            if np.all(np.linalg.eigvalsh(mass) > 0):
+                return
+            raise SingularMassError(", ".join(self.c.coordinates), t, y)
         try:
             np.linalg.cholesky(mass)
         except np.linalg.LinAlgError:
@@ -351,6 +376,7 @@ class Driver:
         """Why the equations fail at a state: an evaluation fault or a mass matrix that
         is (nearly) singular there (a dead centre of the chosen coordinate)."""
         p = self.modes.p(mode)
+        self.loops.check_singular(t, y, p)
         try:
             values = np.asarray(self.c.rhs(t, y, p), dtype=float)
             mass = self.c.terms(t, y, p)["mass"]

@@ -19,7 +19,9 @@ from sympy.core.sympify import SympifyError, _sympify
 from .errors import DeclarationError
 
 __all__ = ["Element", "Link", "Load", "Spring", "Damper", "Gravity", "Friction",
-           "as_expression"]
+           "Constraint", "Joint", "FRAME", "is_structural", "as_expression"]
+
+FRAME = "frame"     # the name joints use for the fixed frame (ground)
 
 
 def as_expression(value, what: str) -> sp.Expr:
@@ -116,17 +118,23 @@ class Load(Element):
     Its generalized force is ``value * d(along)/dq`` (virtual power). With an
     ``efficiency`` eta the load sits behind a lossy transmission: when it draws power
     (value and motion opposed) the drive must supply ``value/eta``; when it feeds power
-    back only ``value*eta`` arrives.
+    back only ``value*eta`` arrives. ``on`` names the link(s) it acts on, for
+    kinetostatics (joint reactions); without it the link is found from ``along``.
     """
     value: object = 0
     along: object = None
     efficiency: object = None
+    on: tuple = ()
 
     def __post_init__(self):
         super().__post_init__()
         if self.along is None:
             raise DeclarationError(f"load {self.name!r}: 'along' is required "
                                    "(the angle or displacement the load acts along)")
+        on = (self.on,) if isinstance(self.on, str) else tuple(self.on or ())
+        if not all(isinstance(n, str) for n in on):
+            raise DeclarationError(f"load {self.name!r}: on= takes link names, got {self.on!r}")
+        object.__setattr__(self, "on", on)
         self._expr("value")
         self._expr("along")
         if self.efficiency is not None:
@@ -205,3 +213,105 @@ class Friction(Element):
 
     def expressions(self):
         return {"moment": self.moment, "along": self.along}
+
+
+@dataclass(frozen=True)
+class Constraint(Element):
+    """Holonomic constraints ``g(q, t) = 0`` between the coordinates (a closed loop).
+
+    ``equations``: the scalar expressions that vanish; ``components``: their names
+    (``"x"``, ``"y"`` of a vector loop, empty for one constraint); ``terms``: a vector
+    loop's ``(length, angle)`` pairs, ``sum length e^{i angle} = 0`` (empty otherwise).
+    Like links, constraints are always part of the mechanism (never a scene's effect).
+    """
+    equations: tuple = ()
+    components: tuple = ()
+    terms: tuple = ()
+
+    def __post_init__(self):
+        super().__post_init__()
+        if self.terms:
+            pairs = []
+            for k, term in enumerate(self.terms):
+                if not (isinstance(term, (tuple, list)) and len(term) == 2):
+                    raise DeclarationError(
+                        f"loop {self.name!r}: term {k + 1} is {term!r}; give each term as "
+                        "(length, angle), meaning length * e^(i angle)")
+                pairs.append((as_expression(term[0], f"loop {self.name!r}: length {k + 1}"),
+                              as_expression(term[1], f"loop {self.name!r}: angle {k + 1}")))
+            object.__setattr__(self, "terms", tuple(pairs))
+            object.__setattr__(self, "equations", (
+                sp.Add(*[l * sp.cos(a) for l, a in pairs]),
+                sp.Add(*[l * sp.sin(a) for l, a in pairs])))
+            object.__setattr__(self, "components", ("x", "y"))
+        else:
+            equations = self.equations
+            if not isinstance(equations, (tuple, list)):
+                equations = (equations,)
+            object.__setattr__(self, "equations", tuple(
+                as_expression(g, f"constraint {self.name!r}") for g in equations))
+        if not self.equations:
+            raise DeclarationError(f"constraint {self.name!r}: no equation given")
+
+    @property
+    def labels(self) -> tuple:
+        """The names of the scalar constraints: ``NAME.x``, ``NAME.y`` or ``NAME``."""
+        if self.components:
+            return tuple(f"{self.name}.{c}" for c in self.components)
+        if len(self.equations) == 1:
+            return (self.name,)
+        return tuple(f"{self.name}[{k}]" for k in range(len(self.equations)))
+
+    def expressions(self):
+        return dict(zip(self.labels, self.equations))
+
+
+@dataclass(frozen=True)
+class Joint(Element):
+    """A joint between two links (``"frame"`` for the fixed frame), for kinetostatics.
+
+    ``kind``: ``"revolute"`` (a pin at the point ``at``: force, no moment),
+    ``"prismatic"`` (a slide along the angle ``direction``: force normal to it and a
+    moment; ``at`` is the point of the slider the normal force is referred to) or
+    ``"weld"`` (rigidly joined, e.g. a flywheel keyed on the crank: force and moment).
+    The reaction of a joint is the force (and moment) the first link exerts on the second.
+    """
+    links: tuple = ()
+    at: tuple = ()
+    kind: str = "revolute"
+    direction: object = None
+
+    def __post_init__(self):
+        super().__post_init__()
+        what = f"joint {self.name!r}"
+        links = self.links
+        if isinstance(links, str) or len(links) != 2 or not all(isinstance(n, str)
+                                                                  for n in links):
+            raise DeclarationError(f"{what}: links must be two link names (or 'frame'), "
+                                   f"got {links!r}")
+        if links[0] == links[1]:
+            raise DeclarationError(f"{what}: joins {links[0]!r} to itself")
+        object.__setattr__(self, "links", tuple(links))
+        if self.kind not in ("revolute", "prismatic", "weld"):
+            raise DeclarationError(f"{what}: kind must be 'revolute', 'prismatic' or "
+                                   f"'weld', got {self.kind!r}")
+        if not (isinstance(self.at, (tuple, list)) and len(self.at) == 2):
+            raise DeclarationError(f"{what}: at must be the point (x, y), got {self.at!r}")
+        object.__setattr__(self, "at", tuple(as_expression(v, f"{what}: at")
+                                             for v in self.at))
+        if (self.kind == "prismatic") != (self.direction is not None):
+            raise DeclarationError(f"{what}: a prismatic joint needs direction= (the angle "
+                                   "of its slide), other joints take none")
+        if self.direction is not None:
+            self._expr("direction")
+
+    def expressions(self):
+        out = {"x": self.at[0], "y": self.at[1]}
+        if self.direction is not None:
+            out["direction"] = self.direction
+        return out
+
+
+def is_structural(element) -> bool:
+    """Links, loops and joints: always part of the mechanism, never a scene's effect."""
+    return isinstance(element, (Link, Constraint, Joint))

@@ -126,11 +126,14 @@ class FrictionModes:
         return Mode(tuple(signs), tuple(tuple(g) for g in groups), frozenset(free), flags)
 
     def _holdable(self, terms, candidates) -> list:
-        """The candidates whose constraint can act: ``G M^-1 G'`` not negligible."""
+        """The candidates whose constraint can act: ``G M^-1 G'`` not negligible, on the
+        motions the closed loops allow (mass and gradient reduced to them)."""
         mass, grads = terms["mass"], terms["friction_gradient"]
+        basis = _allowed_motions(terms["constraint_gradient"], self.n)
+        mass = basis.T @ mass @ basis
         held = []
         for k in candidates:
-            g = grads[k]
+            g = grads[k] @ basis
             weight = float(g @ np.linalg.solve(mass, g))
             scale = float(g @ g) / max(float(np.max(np.abs(np.diag(mass)))), 1e-300)
             if weight > _CANNOT_HOLD * scale and weight > 0:
@@ -144,22 +147,32 @@ class FrictionModes:
         return math.copysign(1.0, bias) if bias != 0 else 1.0
 
     # ---------------------------------------------------------- dynamics
-    def _solve(self, t, y, mode, terms=None):
-        """Accelerations and the holding force of each stuck group."""
+    def _solve(self, t, y, mode, terms=None, loops=False):
+        """Accelerations and the holding force of each stuck group (and with ``loops``
+        the closed loops' constraint forces, always active, first)."""
         terms = terms or self.c.terms(t, y, self.p(mode))
         mass, forcing = terms["mass"], terms["forcing"]
-        if not mode.groups:
-            return np.linalg.solve(mass, forcing), np.zeros(0)
+        loop_rows = terms["constraint_gradient"]
+        if not mode.groups and not len(loop_rows):
+            a = np.linalg.solve(mass, forcing)
+            return (a, np.zeros(0), np.zeros(0)) if loops else (a, np.zeros(0))
         leaders = [group[0][0] for group in mode.groups]
-        g = terms["friction_gradient"][leaders]
-        m = len(leaders)
+        g = np.vstack([loop_rows, terms["friction_gradient"][leaders].reshape(-1, self.n)])
+        bias = np.concatenate([terms["constraint_bias"], terms["friction_bias"][leaders]])
+        m = len(g)
         system = np.zeros((self.n + m, self.n + m))
         system[:self.n, :self.n] = mass
         system[:self.n, self.n:] = -g.T
         system[self.n:, :self.n] = g
-        rhs = np.concatenate([forcing, -terms["friction_bias"][leaders]])
-        solution = np.linalg.solve(system, rhs)
-        return solution[:self.n], solution[self.n:]
+        solution = np.linalg.solve(system, np.concatenate([forcing, -bias]))
+        a, lam = solution[:self.n], solution[self.n:]
+        split = len(loop_rows)
+        return (a, lam[split:], lam[:split]) if loops else (a, lam[split:])
+
+    def multipliers(self, t, y, mode):
+        """Closed loops: their constraint forces ``lambda`` (``M a = f + G' lambda``),
+        with the stuck frictions' constraints in the same system."""
+        return self._solve(t, y, mode, loops=True)[2]
 
     def accelerations(self, t, y, mode):
         """Accelerations and the friction force of every element (the holding force
@@ -180,9 +193,9 @@ class FrictionModes:
         return a, forces
 
     def rhs(self, mode):
-        """``fun(t, y)`` of a mode with stuck elements (``None`` when none is stuck):
-        the constrained accelerations; coordinates held by a stuck element keep exactly
-        zero speed."""
+        """``fun(t, y)`` of a mode with stuck elements (``None`` when none is stuck: the
+        generated ``rhs``, which holds closed loops itself): the constrained
+        accelerations; coordinates held by a stuck element keep exactly zero speed."""
         if not mode.groups:
             return None
         n, p = self.n, self.p(mode)
@@ -197,16 +210,28 @@ class FrictionModes:
         return constrained
 
     def project(self, t, y, mode):
-        """Make the sliding speeds of the stuck elements exactly zero, by the impulse that
-        changes the kinetic energy least (speeds projected with the mass matrix)."""
+        """Put the state on the closed loops (positions and speeds, least change), then
+        make the sliding speeds of the stuck elements exactly zero by the impulse that
+        changes the kinetic energy least (speeds projected with the mass matrix); with
+        loops, by the least change that keeps the loops' speeds closed."""
         y = np.array(y, dtype=float)
+        if self.c.constraints:
+            from .assembly import project
+            y = project(self.c, t, y, self.p(mode))
         if not mode.groups:
             return y
         terms = self.c.terms(t, y, self.p(mode))
         leaders = mode.leaders
         g = terms["friction_gradient"][leaders]
-        w = np.linalg.solve(terms["mass"], g.T)
-        y[self.n:] -= w @ np.linalg.solve(g @ w, terms["friction_rate"][leaders])
+        if self.c.constraints:
+            rows = np.vstack([terms["constraint_gradient"], g])
+            residual = np.concatenate([terms["constraint_gradient"] @ y[self.n:]
+                                       + terms["constraint_rate"],
+                                       terms["friction_rate"][leaders]])
+            y[self.n:] -= np.linalg.lstsq(rows, residual, rcond=None)[0]
+        else:
+            w = np.linalg.solve(terms["mass"], g.T)
+            y[self.n:] -= w @ np.linalg.solve(g @ w, terms["friction_rate"][leaders])
         for k in mode.stuck:
             if self.frozen[k] >= 0:
                 y[self.n + self.frozen[k]] = 0.0
@@ -251,6 +276,16 @@ class FrictionModes:
         _, holding = self._solve(t, y, mode)
         slide = -math.copysign(1.0, holding[group_index])
         return {k: slide * math.copysign(1.0, alpha) for k, alpha in mode.groups[group_index]}
+
+
+def _allowed_motions(loop_gradients, n):
+    """A basis of the speeds the closed loops allow (the null space of their
+    gradients); the identity without loops."""
+    if not len(loop_gradients):
+        return np.eye(n)
+    _, singular, vt = np.linalg.svd(loop_gradients)
+    rank = int(np.sum(singular > 1e-12 * max(singular[0], 1e-300)))
+    return vt[rank:].T
 
 
 def _way(sign) -> str:

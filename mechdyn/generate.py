@@ -25,7 +25,7 @@ from __future__ import annotations
 import sympy as sp
 
 from .codegen import function_source, safe_symbols
-from .elements import Damper, Friction, Load, Spring
+from .elements import Constraint, Damper, Friction, Load, Spring
 from .errors import SceneError
 from .symbols import t
 
@@ -53,6 +53,7 @@ def generate(eqs, scene, elements) -> tuple:
     periods = _forcing_periods([forcing] + magnitudes, set(eqs.q) | set(eqs.u))
     everything = [mass_matrix, forcing, eqs.kinetic_energy, eqs.potential_energy]
     everything += magnitudes + [e for _, e in stops] + output_exprs
+    everything += [c.expression for c in eqs.constraints]       # a loop's ground length
     known = set(eqs.q) | set(eqs.u) | {t} | set(signs) | set(flags)
     params = sorted(set().union(*(sp.sympify(e).free_symbols for e in everything)) - known,
                     key=lambda s: s.name)
@@ -76,16 +77,27 @@ def generate(eqs, scene, elements) -> tuple:
         return function_source(name, states, parameters, exprs, body, doc, lines)
 
     mass, force = r(mass_matrix), r(forcing)
+    constraints = eqs.constraints
     layout, term_exprs = _terms_layout(n, mass, force, [
         ("friction_gradient", (len(frictions), n), [r(g) for fr in frictions for g in fr.gradient]),
         ("friction_bias", (len(frictions),), [r(fr.bias) for fr in frictions]),
         ("friction_magnitude", (len(frictions),), [r(m) for m in magnitudes]),
-        ("friction_rate", (len(frictions),), [r(fr.rate) for fr in frictions])])
+        ("friction_rate", (len(frictions),), [r(fr.rate) for fr in frictions]),
+        ("constraint_gradient", (len(constraints), n),
+         [r(g) for c in constraints for g in c.gradient]),
+        ("constraint_bias", (len(constraints),), [r(c.bias) for c in constraints]),
+        ("constraint_rate", (len(constraints),),
+         [r(sp.diff(c.expression, t)) for c in constraints])])
     event_exprs = [r(e) for _, e in stops] + [r(fr.rate) for fr in frictions] \
         + [r(e) for e in switches.functions]
-    sources = [
-        _rhs_source(source, mass, force, n, states, coordinates),
-        _jac_source(source, mass, force, q_names, u_names),
+    if constraints:      # closed loops: rhs solves M a = f + G' lambda, G a = -bias
+        from .loop_code import loop_sources
+        loops = loop_sources(eqs, mass, force, rename, source, states)
+        sources = [loops.pop("rhs"), loops.pop("jac"), *loops.values()]
+    else:
+        sources = [_rhs_source(source, mass, force, n, states, coordinates),
+                   _jac_source(source, mass, force, q_names, u_names)]
+    sources += [
         source("terms", term_exprs, [f"out[{i}] = {{{i}}}" for i in range(len(term_exprs))]),
         source("events", event_exprs, [f"out[{i}] = {{{i}}}" for i in range(len(event_exprs))]),
         source("outputs", [r(e) for e in output_exprs],
@@ -113,6 +125,14 @@ def generate(eqs, scene, elements) -> tuple:
         "rigid": list(eqs.rigid),
         "time_functions": [c.func.__name__ for c in eqs.coordinates],
     }
+    if constraints:
+        meta["constraints"] = [c.name for c in constraints]
+        meta["loops"] = [next(name for name, e in elements.items() if isinstance(e, Constraint)
+                              and c.name in e.labels) for c in constraints]
+        meta["independent"] = [eqs.q.index(q) for q in eqs.independent]
+        meta["multiplier_outputs"] = {label: meta["constraints"].index(label)
+                                      for label, _ in outputs
+                                      if label in meta["constraints"]}
     return meta, "\n".join(sources)
 
 
@@ -249,6 +269,9 @@ def _outputs(eqs, scene, elements) -> list:
                     raise SceneError(f"scene {scene.name!r}: output {item!r}: no load "
                                      f"{name!r} in the scene (loads: {sorted(eqs.powers)})")
                 result.append((label, eqs.powers[name]))
+                continue
+            if isinstance(elements.get(item), Constraint):   # its multipliers (simulate)
+                result += [(component, sp.S.Zero) for component in elements[item].labels]
                 continue
             result.append((label, _element_output(eqs, scene, item, elements)))
         elif isinstance(item, sp.Basic):

@@ -52,6 +52,9 @@ def derivation_steps(eqs) -> list:
                 label = f"Q_{{\\text{{{name}}}, {sp.latex(qi)}}}" if eqs.dof > 1 else \
                     f"Q_{{\\text{{{name}}}}}"
                 steps.append(("generalized force", label, f"Q[{name}, {qi}]", tidy(entry)))
+    if eqs.constraints:
+        steps += _loop_steps(eqs)
+        return steps
     if eqs.dof == 1 and not eqs.rheonomic:
         inertia = tidy(eqs.reduced_inertia)
         steps.append(("reduced inertia", "I_{\\mathrm{red}}", "I_red", inertia))
@@ -136,3 +139,34 @@ def presentable(expr, digits=12):
     if isinstance(expr, sp.Integral):
         return sp.Integral(presentable(expr.function, digits), *expr.limits)
     return expr.func(*[presentable(a, digits) for a in expr.args])
+
+
+def _loop_steps(eqs) -> list:
+    """Closed loops: the constraints, the equations of motion with the constraint forces
+    ``G' lambda``, and for one-DOF linkages the transmission functions, I_red and M_red
+    (in the first-order transmission functions ``theta_2'``)."""
+    from . import transmission
+    steps = []
+    multipliers = [sp.Symbol(f"lambda_{k + 1}") for k in range(len(eqs.constraints))]
+    for c, lam in zip(eqs.constraints, multipliers):
+        steps.append((f"loop closure ({lam})", f"0 = g_{{\\text{{{c.name}}}}}",
+                      f"0 = g[{c.name}]", c.expression))
+    mass, forcing = eqs.mass_matrix, eqs.forcing      # as derived (simplify is slow here)
+    for i in range(eqs.dof):
+        lhs = sum((mass[i, j] * eqs.a[j] for j in range(eqs.dof)), sp.S.Zero)
+        pull = sum((c.gradient[i] * lam for c, lam in zip(eqs.constraints, multipliers)),
+                   sp.S.Zero)
+        steps.append(("equation of motion", sp.latex(lhs), str(lhs), forcing[i] + pull))
+    if len(eqs.independent) != 1 or eqs.rheonomic:
+        return steps
+    crank = eqs.independent[0]
+    for order, table in ((1, transmission.ratios(eqs)), (2, transmission.second_ratios(eqs))):
+        for q, expr in table.items():
+            symbol = transmission.ratio_symbol(q, order)
+            text = f"d{'' if order == 1 else '2'}{q}/d{crank}{'' if order == 1 else '2'}"
+            steps.append(("transmission function", sp.latex(symbol), text, expr))
+    steps.append(("reduced inertia", "I_{\\mathrm{red}}", "I_red",
+                  transmission.reduced_inertia_in_ratios(eqs)))
+    steps.append(("reduced moment", "M_{\\mathrm{red}}", "M_red",
+                  transmission.reduced_moment(eqs)))
+    return steps

@@ -19,7 +19,8 @@ from __future__ import annotations
 import sympy as sp
 from sympy.core.function import AppliedUndef
 
-from .elements import Damper, Element, Friction, Gravity, Link, Load, Spring
+from .elements import (FRAME, Constraint, Damper, Element, Friction, Gravity, Joint, Link,
+                       Load, Spring)
 from .errors import DeclarationError
 from .symbols import is_coordinate, t
 
@@ -34,6 +35,7 @@ _ALLOWED = {
     (Damper, "c"): "qt", (Damper, "stretch"): "qt",
     (Gravity, "g"): "",
     (Friction, "moment"): "qvt", (Friction, "along"): "qt",
+    (Joint, "x"): "qt", (Joint, "y"): "qt", (Joint, "direction"): "qt",
 }
 _MUST_MOVE = {(Load, "along"), (Spring, "stretch"), (Damper, "stretch"), (Friction, "along")}
 _WORDS = {"q": "the coordinates", "v": "speeds", "t": "the time t"}
@@ -53,9 +55,14 @@ class Mechanism:
         (``{P: "N", R: "m", I: "kg*m^2", f: "1"}``). With parameter units declared,
         the dimension of every element's contribution to every equation is checked
         (:meth:`check_dimensions`, also when the equations are derived).
+    independent : list, optional
+        With closed loops (:meth:`loop`, :meth:`constraint`): the independent
+        coordinates (a crank angle), whose initial values a scene gives; the others are
+        dependent, assembled from the loops. Default: the first ``n - m`` coordinates
+        (``m`` scalar constraints).
     """
 
-    def __init__(self, name: str, coordinates, units=None):
+    def __init__(self, name: str, coordinates, units=None, independent=None):
         coordinates = list(coordinates)
         if not coordinates:
             raise DeclarationError(f"mechanism {name!r}: give at least one coordinate")
@@ -75,6 +82,15 @@ class Mechanism:
         self.elements: dict[str, Element] = {}
         self._speeds = {sp.Derivative(q, t) for q in self.coordinates}
         self._derived = {}
+        self._independent = None
+        if independent is not None:
+            chosen = [independent] if is_coordinate(independent) else list(independent)
+            for q in chosen:
+                if q not in self.coordinates:
+                    raise DeclarationError(
+                        f"mechanism {name!r}: independent coordinate {q!r} is not one of "
+                        f"its coordinates {_names(coordinates)}")
+            self._independent = tuple(chosen)
         self._dimensions_checked = False
         self.declare_units(units or {})
 
@@ -110,11 +126,15 @@ class Mechanism:
             raise DeclarationError(
                 f"mechanism {self.name!r}: an element named {element.name!r} exists already "
                 f"({type(self.elements[element.name]).__name__.lower()}); names must be unique")
+        if element.name == FRAME:
+            raise DeclarationError(f"mechanism {self.name!r}: {FRAME!r} names the fixed "
+                                   "frame in joints; give the element another name")
         for attribute, expr in element.expressions().items():
             self._check_dependencies(element, attribute, expr)
         for index, point in enumerate(getattr(element, "points", ())):
             for axis, expr in zip("xy", point):
                 self._check_dependencies(element, f"point {index} {axis}", expr)
+        self._check_link_names(element)
         self.elements[element.name] = element
         self._derived.clear()
         self._dimensions_checked = False
@@ -127,9 +147,11 @@ class Mechanism:
         return self.add(Link(name, m=m, J=J, x=x, y=y, angle=angle, tags=tags,
                              points=points))
 
-    def load(self, name, value, along, efficiency=None, tags=()) -> Load:
-        """A force or moment ``value`` acting along ``along`` (see :class:`Load`)."""
-        return self.add(Load(name, value=value, along=along, efficiency=efficiency, tags=tags))
+    def load(self, name, value, along, efficiency=None, tags=(), on=()) -> Load:
+        """A force or moment ``value`` acting along ``along`` (see :class:`Load`);
+        ``on``: the link (or two links) it acts on, for joint reactions."""
+        return self.add(Load(name, value=value, along=along, efficiency=efficiency,
+                             tags=tags, on=on))
 
     def spring(self, name, k, stretch, tags=()) -> Spring:
         """A linear spring of stiffness ``k`` on ``stretch``."""
@@ -147,9 +169,92 @@ class Mechanism:
         """Coulomb friction of magnitude ``moment`` along ``along`` (a brake)."""
         return self.add(Friction(name, moment=moment, along=along, tags=tags))
 
+    def loop(self, name, *terms, tags=()) -> Constraint:
+        """A closed vector loop ``sum length_i e^(i angle_i) = 0``: two scalar
+        constraints (``NAME.x``, ``NAME.y``). Each term is ``(length, angle)``, e.g. a
+        four-bar ``(a, phi), (b, theta_2), (-c, theta_3), (-d, 0)``; lengths and angles
+        are expressions of the coordinates (a slider's travel is a length)."""
+        if len(terms) == 1 and isinstance(terms[0], list):
+            terms = tuple(terms[0])
+        if len(terms) < 2:
+            raise DeclarationError(f"loop {name!r}: a closed loop needs at least two terms "
+                                   "(length, angle)")
+        return self.add(Constraint(name, terms=tuple(terms), tags=tags))
+
+    def constraint(self, name, g, tags=()) -> Constraint:
+        """A holonomic constraint ``g(q, t) = 0`` (one expression, or a list of them)."""
+        return self.add(Constraint(name, equations=g, tags=tags))
+
+    def joint(self, name, links, at, kind="revolute", direction=None, tags=()) -> Joint:
+        """A joint for kinetostatics: ``links`` (two link names, ``"frame"`` for the
+        fixed frame) joined at the point ``at = (x, y)``; ``kind`` ``"revolute"``,
+        ``"prismatic"`` (with the slide's angle ``direction``) or ``"weld"``. Its
+        reaction is the force the first link exerts on the second."""
+        return self.add(Joint(name, links=links, at=at, kind=kind, direction=direction,
+                              tags=tags))
+
+    # ---------------------------------------------------------------- closed loops
+    @property
+    def constraints(self) -> dict:
+        """The loops and constraints by name."""
+        return {n: e for n, e in self.elements.items() if isinstance(e, Constraint)}
+
+    @property
+    def joints(self) -> dict:
+        """The joints by name."""
+        return {n: e for n, e in self.elements.items() if isinstance(e, Joint)}
+
+    @property
+    def independent(self) -> tuple:
+        """The independent coordinates: all of them without loops; with loops the ones
+        given as ``independent=`` or else the first ``n - m``. Checked: ``m`` scalar
+        constraints must leave at least one."""
+        m = sum(len(c.equations) for c in self.constraints.values())
+        n = len(self.coordinates)
+        if m >= n:
+            raise DeclarationError(
+                f"mechanism {self.name!r}: {m} scalar constraints on {n} coordinates "
+                f"{_names(self.coordinates)} leave no degree of freedom; declare the "
+                "dependent coordinates as coordinates too, or remove a constraint")
+        if self._independent is None:
+            return self.coordinates[:n - m]
+        if len(self._independent) != n - m:
+            raise DeclarationError(
+                f"mechanism {self.name!r}: {len(self._independent)} independent coordinates "
+                f"{_names(self._independent)} but {n} coordinates and {m} scalar "
+                f"constraints leave {n - m} degrees of freedom")
+        return self._independent
+
+    @property
+    def dependent(self) -> tuple:
+        """The coordinates the loops determine."""
+        chosen = self.independent
+        return tuple(q for q in self.coordinates if q not in chosen)
+
+    def _check_link_names(self, element):
+        links = {n for n, e in self.elements.items() if isinstance(e, Link)}
+        if isinstance(element, Joint):
+            names, what = element.links, f"joint {element.name!r}"
+        elif isinstance(element, Load):
+            names, what = element.on, f"load {element.name!r}: on"
+        else:
+            return
+        for n in names:
+            if n != FRAME and n not in links:
+                raise DeclarationError(f"{what}: {n!r} is not a link of {self.name!r} "
+                                       f"(links: {sorted(links)}, or {FRAME!r}); declare "
+                                       "the links first")
+
     def _check_dependencies(self, element, attribute, expr):
         what = f"{type(element).__name__.lower()} {element.name!r}: {attribute} = {expr}"
-        allowed = _ALLOWED.get((type(element), attribute), "qt")      # points: like x, y
+        if isinstance(element, Constraint):
+            allowed = "qt"
+            if not expr.atoms(AppliedUndef) & set(self.coordinates):
+                raise DeclarationError(
+                    f"{what}: does not involve the coordinates {_names(self.coordinates)}; "
+                    "a constraint must tie coordinates together")
+        else:
+            allowed = _ALLOWED.get((type(element), attribute), "qt")  # points: like x, y
         coords = set(self.coordinates)
         for d in expr.atoms(sp.Derivative):
             if d not in self._speeds:
@@ -206,12 +311,29 @@ class Mechanism:
             check_scene(self, scene)
 
     def reduced_inertia(self, scene=None):
-        """The reduced (equivalent) moment of inertia of a one-DOF mechanism."""
-        return self.equations(scene).reduced_inertia
+        """The reduced (equivalent) moment of inertia of a one-DOF mechanism; with
+        closed loops an expression of the crank angle and the dependent coordinates."""
+        eqs = self.equations(scene)
+        if eqs.constraints:
+            from .transmission import reduced_inertia
+            return reduced_inertia(eqs)
+        return eqs.reduced_inertia
 
     def reduced_moment(self, scene=None):
         """The reduced moment of a one-DOF mechanism (includes gravity and springs)."""
-        return self.equations(scene).reduced_moment
+        eqs = self.equations(scene)
+        if eqs.constraints:
+            from .transmission import reduced_moment
+            return reduced_moment(eqs)
+        return eqs.reduced_moment
+
+    def transmission_functions(self, order=1, scene=None) -> dict:
+        """Of a one-DOF linkage: ``dq/dphi`` (``order=1``) or ``d2q/dphi2`` (2, written
+        in the first-order ones, ``theta_2'``) of each dependent coordinate, by its
+        plain symbol; expressions of the crank angle and the dependent coordinates."""
+        from .transmission import ratios, second_ratios
+        eqs = self.equations(scene)
+        return ratios(eqs) if order == 1 else second_ratios(eqs)
 
     def latex(self, scene=None) -> str:
         """The derivation as LaTeX: energies, forces, reduced quantities, equations."""

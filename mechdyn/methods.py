@@ -26,7 +26,7 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = ["choose_method", "explicit_for", "STIFF", "StiffnessMonitor", "fallbacks",
-           "STABILITY_LIMIT", "STIFF_RTOL_FLOOR", "segment_tolerances"]
+           "STABILITY_LIMIT", "STIFF_RTOL_FLOOR", "segment_tolerances", "motion_jacobian"]
 
 STIFF = "Radau"
 STIFF_RTOL_FLOOR = 1e-8
@@ -38,6 +38,16 @@ STABILITY_LIMIT = {"DOP853": 6.0, "RK45": 3.3, "RK23": 2.5}
 def explicit_for(rtol) -> str:
     """DOP853 at tight tolerances, RK45 at loose ones (fewer stages per step)."""
     return "DOP853" if rtol < 1e-6 else "RK45"
+
+
+def motion_jacobian(compiled, t, y, p):
+    """The Jacobian whose eigenvalues judge stiffness: the analytic one, or with closed
+    loops the linearised motion the loops allow (the full one has spurious eigenvalues
+    along the constraints: :func:`mechdyn.assembly.manifold_jacobian`)."""
+    if compiled.constraints:
+        from .assembly import manifold_jacobian
+        return manifold_jacobian(compiled, t, y, p)
+    return compiled.jac(t, y, p)
 
 
 def choose_method(compiled, p, y0, t0, t_limit, rtol) -> tuple:
@@ -56,8 +66,8 @@ def choose_method(compiled, p, y0, t0, t_limit, rtol) -> tuple:
     """
     explicit = explicit_for(rtol)
     try:
-        jacobian = compiled.jac(t0, y0, p)
-    except (ArithmeticError, ValueError):
+        jacobian = motion_jacobian(compiled, t0, y0, p)
+    except (ArithmeticError, ValueError, np.linalg.LinAlgError):
         return explicit, "the Jacobian cannot be evaluated at the start"
     if not np.all(np.isfinite(jacobian)):
         return explicit, "the Jacobian is not finite at the start"

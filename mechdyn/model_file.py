@@ -1,4 +1,6 @@
-"""Loading model files: Python files that define ``mechanism``, ``params`` and ``scenes``.
+"""Loading model files: Python files that define ``mechanism``, ``params`` and ``scenes``
+(and, for linkages, optionally ``points``: name -> ``(x, y)``, points whose paths
+``mechdyn linkage`` draws, such as a coupler point).
 
 A model file is the user's own code and runs like any script. Whatever goes wrong in it
 (an exception, ``sys.exit(n)``, a ``KeyboardInterrupt`` it raises itself, ``scenes`` or
@@ -42,6 +44,7 @@ class Model:
     params: dict = field(default_factory=dict)
     scenes: dict = field(default_factory=dict)
     doc: str = ""
+    points: dict = field(default_factory=dict)     # name -> (x, y): coupler points
 
     def scene(self, name: str) -> Scene:
         """The scene called ``name``, with a clear error listing the others."""
@@ -75,7 +78,12 @@ def load_model(path) -> Model:
     scenes = _scenes(path, namespace.get("scenes"))
     params = _params(path, namespace.get("params"), mechanism)
     doc = namespace.get("__doc__")
-    return Model(path, mechanism, params, scenes, doc.strip() if isinstance(doc, str) else "")
+    points = namespace.get("points") or {}
+    if not isinstance(points, Mapping):
+        raise ModelFileError(f"{path}: `points` must be a dict {{name: (x, y)}}, got "
+                             f"{type(points).__name__}")
+    return Model(path, mechanism, params, scenes, doc.strip() if isinstance(doc, str) else "",
+                 dict(points))
 
 
 def _run(path) -> dict:

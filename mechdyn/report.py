@@ -23,6 +23,7 @@ from pathlib import Path
 import sympy as sp
 from sympy.core.function import AppliedUndef
 
+from .elements import is_structural
 from .errors import SimulationError
 from .latex import derivation_latex, derivation_steps
 from .plotting import dense_series
@@ -160,7 +161,8 @@ def _elements(mechanism, eqs) -> str:
     rows = []
     for name, element in mechanism.elements.items():
         kind = type(element).__name__.lower()
-        used = "link" if kind == "link" else ("yes" if name in eqs.elements else "no")
+        used = ("always" if is_structural(element)       # links, loops, joints
+                else "yes" if name in eqs.elements else "no")
         values = ",\\quad ".join(f"\\mathrm{{{key}}} = {sp.latex(_plain(value))}"
                            for key, value in element.expressions().items() if value != 0)
         tags = ", ".join(element.tags)

@@ -157,10 +157,17 @@ class Result:
         if not labels or not len(times):
             return {label: np.zeros(len(times)) for label in labels}
         frictions = self.compiled.frictions
+        multipliers = getattr(self.compiled, "multiplier_outputs", {})   # closed loops
+
+        multipliers = self.compiled.multiplier_outputs          # closed loops
 
         def evaluate(t, y, owner):
             mode = self.trajectory.segments[owner].mode
             values = list(self.compiled.outputs(t, y, self._modes.p(mode)))
+            if multipliers:
+                lam = self._modes.multipliers(t, y, mode)
+                for label, k in multipliers.items():
+                    values[labels.index(label)] = lam[k]
             if mode.groups:
                 _, forces = self._modes.accelerations(t, y, mode)
                 for i, label in enumerate(labels):

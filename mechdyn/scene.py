@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from .elements import Link, as_expression
+from .elements import Link, as_expression, is_structural
 from .errors import SceneError
 from .symbols import is_coordinate, t
 
@@ -222,7 +222,7 @@ def selection(mechanism, scene) -> tuple:
     Returns ``(names, rigid)``, the key under which equations are derived and cached.
     """
     from .elements import Spring
-    loads = [n for n, e in mechanism.elements.items() if not isinstance(e, Link)]
+    loads = [n for n, e in mechanism.elements.items() if not is_structural(e)]
     if scene is None:
         return tuple(loads), ()
     if not isinstance(scene, Scene):

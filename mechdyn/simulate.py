@@ -5,6 +5,17 @@ The inputs are checked here (parameters, initial state, tolerances); the run its
 methods chosen and changed by measuring the problem (:mod:`mechdyn.methods`), events
 located on every step (:mod:`mechdyn.events`), budgets and progress.
 
+Closed loops (``Equations.constraints``, see :mod:`mechdyn.loop_code`): the initial
+state is assembled (:func:`mechdyn.assembly.assemble`: Newton on the dependent positions
+from the scene's guesses, ``G u = -dg/dt`` for the dependent speeds); the generated
+``rhs`` solves ``M a = f + G' lambda``, ``G a = -bias`` with the loops always active (and
+``_kkt`` stacks them with stuck frictions); after a step where the drift ``|g|`` or
+``|G u + dg/dt|`` exceeds rtol times the loop's size the segment ends there and the state
+is projected back (:func:`mechdyn.assembly.project`); the largest minor of ``G`` is
+watched as an event, and where it changes sign with every minor small the run stops
+with :class:`~mechdyn.loop_code.LoopSingularError`; a loop's name as an output records
+its multipliers (:meth:`_Run.loop_multipliers`).
+
 >>> import mechdyn as md
 >>> model = md.load_model("models/shoe_brake.py")
 >>> res = model.mechanism.simulate(model.scenes["braking"], model.params)
@@ -84,11 +95,20 @@ def initial_state(compiled, mechanism, scene, params) -> np.ndarray:
                              "not a number") from None
         if not math.isfinite(y0[slots[slot]]):
             raise SceneError(f"scene {scene.name!r}: initial value of {key} is not finite")
-    missing = [compiled.state_names[i] for i in range(2 * n) if np.isnan(y0[i])]
+    # Closed loops: dependent speeds are solved, dependent positions are guesses.
+    solved = [n + i for i in range(n) if compiled.constraints and i not in compiled.independent]
+    missing = [compiled.state_names[i] for i in range(2 * n)
+               if np.isnan(y0[i]) and i not in solved]
     if missing:
+        guesses = (" and a guess for each dependent coordinate, which picks the assembly "
+                   "branch" if solved else "")
         raise SceneError(f"scene {scene.name!r}: missing initial values for "
                          f"{', '.join(missing)} (give them in initial={{q: ..., "
-                         "md.speed(q): ...}})")
+                         f"md.speed(q): ...}}{guesses})")
+    if compiled.constraints:
+        from .assembly import assemble
+        return assemble(compiled, y0, compiled.parameter_vector(params), scene.t_start,
+                        scene.name, [i for i in solved if not np.isnan(y0[i])])
     return y0
 
 

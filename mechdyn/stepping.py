@@ -39,8 +39,8 @@ class Outcome:
 
     ``status``: ``"finished"`` (reached the segment's end), ``"event"`` (``fired`` lists
     the indices of the events at ``t``), ``"chunk"`` (the step allowance is used up),
-    ``"stiff"`` (the stiffness monitor says an explicit method is stability-bound),
-    ``"failed"`` (``message`` says why). ``t``, ``y`` the state where it ended."""
+    ``"stiff"`` (the stiffness monitor says the method no longer fits), ``"drift"`` (the
+    state left its constraints), ``"failed"`` (``message`` says why). ``t``, ``y`` the state where it ended."""
     status: str
     t: float
     y: np.ndarray
@@ -56,18 +56,19 @@ class ScipySegment:
     :class:`~mechdyn.events.EventWatch` or None; ``monitor(t, y, h)`` a stiffness test
     called after each step (true: stop with status ``"stiff"``) or None. Ten steps in a
     row shorter than ``min_step`` are a collapse (status ``"failed"``): the solution runs
-    into a singularity, or the method cannot cope.
+    into a singularity, or the method cannot cope. ``drift(t, y)``: true when the state
+    has left its constraints too far (status ``"drift"``: the caller projects it back).
     """
 
     def __init__(self, method, fun, jac, t0, y0, t_bound, rtol, atol, segment, watch=None,
-                 monitor=None, first_step=None, max_step=np.inf, min_step=0.0):
+                 monitor=None, first_step=None, max_step=np.inf, min_step=0.0, drift=None):
         options = {"rtol": rtol, "atol": atol, "max_step": max_step}
         if first_step:
             options["first_step"] = min(first_step, abs(t_bound - t0))
         if jac is not None and method in WITH_JACOBIAN:
             options["jac"] = jac
         self.method, self.segment, self.watch, self.monitor = method, segment, watch, monitor
-        self.min_step, self.short = min_step, 0
+        self.min_step, self.short, self.drift = min_step, 0, drift
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             self.solver = METHODS[method](fun, t0, np.array(y0, dtype=float), t_bound,
@@ -112,6 +113,8 @@ class ScipySegment:
             if self.short >= 10 and solver.status == "running":
                 return Outcome("failed", solver.t, solver.y,
                                message=f"the step size collapsed to {self.h:.3g} s")
+            if self.drift is not None and self.drift(solver.t, solver.y):
+                return Outcome("drift", solver.t, solver.y)
             if self.monitor is not None and self.monitor(solver.t, solver.y, self.h):
                 return Outcome("stiff", solver.t, solver.y)
         if solver.status != "running":
