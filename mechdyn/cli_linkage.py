@@ -21,7 +21,7 @@ def _linkage(args):
     from .model_file import load_model
     model = load_model(args.model)
     scene = model.scene(args.scene) if args.scene else next(iter(model.scenes.values()), None)
-    params = _params(model, args.param)
+    params = _params(model, scene, args.param)
     linkage = Linkage(model.mechanism, params, scene=scene)
     print(linkage.describe(points=args.points))
     if args.plot:

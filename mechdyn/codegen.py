@@ -23,7 +23,7 @@ import math
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
-__all__ = ["function_source", "compile_source", "safe_symbols", "printed"]
+__all__ = ["function_source", "compile_source", "safe_symbols", "printed", "list_function"]
 
 
 class _Printer(PythonCodePrinter):
@@ -90,3 +90,18 @@ def compile_source(source: str, extra=None) -> dict:
     namespace.update(extra or {})
     exec(compile(source, "<mechdyn generated>", "exec"), namespace)
     return namespace
+
+
+def list_function(name, states, parameters, expressions):
+    """A compiled ``f(t, y, p) -> list`` of the expressions' values, for analysis code
+    that calls generated functions from Python (``y`` a list or an array)."""
+    source = function_source(name, states, parameters, expressions,
+                             [f"out[{i}] = {{{i}}}" for i in range(len(expressions))])
+    raw = compile_source(source)[name]
+    size = len(expressions)
+
+    def evaluate(t, y, p):
+        out = [0.0] * size
+        raw(t, y.tolist() if hasattr(y, "tolist") else list(y), p, out)
+        return out
+    return evaluate

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
-from .codegen import compile_source, function_source
+from .codegen import list_function
 from .derive import _efficiency_factor
 from .elements import Damper, Friction, Gravity, Joint, Link, Load, Spring
 from .errors import MechdynError
@@ -46,9 +46,9 @@ class LinkMotion:
             from .linkage import Linkage
             self.linkage = Linkage(mech, params, guess, scene)
         self.links = {n: e for n, e in mech.elements.items() if isinstance(e, Link)}
-        self.values = {s: sp.Float(float(v)) for s, v in
-                       ((k if isinstance(k, sp.Symbol) else sp.Symbol(str(k)), v)
-                        for k, v in self.params.items())}
+        from .parameters import ParameterSet
+        self.values = {s: sp.Float(v) for s, v in
+                       ParameterSet(params, mechanism=mech, scene=scene).by_symbol().items()}
         self.names = tuple(str(q) for q in eqs.q)
         self._compile()
 
@@ -79,9 +79,7 @@ class LinkMotion:
         if free:
             raise KinetostaticsError(f"{self.mech.name!r}: no values for "
                                      f"{sorted(map(str, free))}")
-        source = function_source("motion", arguments, [], exprs,
-                                 "return [" + "{}, " * len(exprs) + "]")
-        self.motion = compile_source(source)["motion"]
+        self.motion = list_function("motion", arguments, [], exprs)
 
     def _loads(self):
         """``(name, value expression, {link: (cx, cy, c_angle)})`` of every load, spring,

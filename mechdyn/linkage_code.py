@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
-from .codegen import compile_source, function_source, safe_symbols
+from .codegen import list_function, safe_symbols
 from .errors import ParameterError
 from .symbols import t
 
@@ -47,9 +47,7 @@ class LinkageFunctions:
 
     def _function(self, name, exprs):
         exprs = [sp.sympify(e).xreplace(self.rename) for e in exprs]
-        source = function_source(name, self.arguments, self.parameters, exprs,
-                                 "return [" + "{}, " * len(exprs) + "]")
-        return compile_source(source)[name]
+        return list_function(name, self.arguments, self.parameters, exprs)
 
     def expressions(self, exprs):
         """A generated function of user expressions (coordinates as functions of t)."""

@@ -19,7 +19,7 @@ also given in the transmission functions themselves, ``theta_2'``, as textbooks 
 >>> _ = yoke.link("crank", J=1, angle=phi)
 >>> _ = yoke.link("yoke", m=2, x=x)
 >>> _ = yoke.constraint("slot", x - sp.cos(phi))
->>> ratios(yoke.equations())[sp.Symbol("x")]
+>>> ratios(yoke.equations())[md.plain(x)]
 -sin(phi)
 >>> reduced_inertia(yoke.equations())
 2*sin(phi)**2 + 1

@@ -32,7 +32,10 @@ A = (a * sp.cos(phi), a * sp.sin(phi))
 B = (d + c * sp.cos(theta_3), c * sp.sin(theta_3))
 
 mechanism = md.Mechanism("Crank-rocker four-bar with flywheel", [phi, theta_2, theta_3],
-                         independent=[phi])
+                         independent=[phi],
+                         units={a: "m", b: "m", c: "m", d: "m", J_1: "kg*m^2",
+                                J_f: "kg*m^2", m_2: "kg", m_3: "kg", M_0: "N*m",
+                                omega_0: "rad/s", M_w: "N*m"})
 mechanism.link("crank", J=J_1, angle=phi)
 mechanism.link("flywheel", J=J_f, angle=phi)
 mechanism.link("coupler", m=m_2, J=m_2 * b**2 / 12, x=A[0] + b / 2 * sp.cos(theta_2),

@@ -28,7 +28,11 @@ J_c, m_l, m_b, m_r, J_m, i, F_c = sp.symbols("J_c m_l m_b m_r J_m i F_c", positi
 M_k, s_k, omega_s = sp.symbols("M_k s_k omega_s", positive=True)
 
 mechanism = md.Mechanism("Crank-shaper quick-return", [phi, theta, s, psi, x],
-                         units={s: "m", x: "m"}, independent=[phi])
+                         units={s: "m", x: "m", r: "m", d: "m", R: "m", l: "m", h: "m",
+                                J_c: "kg*m^2", m_l: "kg", m_b: "kg", m_r: "kg",
+                                J_m: "kg*m^2", i: "1", F_c: "N", M_k: "N*m", s_k: "1",
+                                omega_s: "rad/s"},
+                         independent=[phi])
 pin = (r * sp.cos(phi), d + r * sp.sin(phi))               # O4 at the origin
 tip = (R * sp.cos(theta), R * sp.sin(theta))
 mechanism.link("crank", J=J_c, angle=phi)

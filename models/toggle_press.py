@@ -29,7 +29,11 @@ J_c, m_l, m_r, J_m, i, k_w = sp.symbols("J_c m_l m_r J_m i k_w", positive=True)
 M_k, s_k, omega_s = sp.symbols("M_k s_k omega_s", positive=True)
 
 mechanism = md.Mechanism("Toggle press", [phi, theta_r, theta_u, theta_w, y],
-                         units={y: "m"}, independent=[phi])
+                         units={y: "m", **{s: "m" for s in (a, l, u, w, x_2, y_2, y_c)},
+                                J_c: "kg*m^2", m_l: "kg/m", m_r: "kg", J_m: "kg*m^2",
+                                i: "1", k_w: "N/m", M_k: "N*m", s_k: "1",
+                                omega_s: "rad/s"},
+                         independent=[phi])
 A = (x_2 + a * sp.cos(phi), y_2 + a * sp.sin(phi))
 B = (u * sp.cos(theta_u), u * sp.sin(theta_u))
 mechanism.link("crank", J=J_c, angle=phi)

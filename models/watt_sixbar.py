@@ -35,7 +35,10 @@ def bar(name, start, length, angle):
 
 
 mechanism = md.Mechanism("Watt II six-bar", [phi, theta_2, theta_3, theta_4, theta_5],
-                         independent=[phi])
+                         independent=[phi],
+                         units={**{s: "m" for s in (a, b, c, d, c_2, e, f, x_6, y_6)},
+                                J_1: "kg*m^2", rho: "kg/m", M_0: "N*m", omega_0: "rad/s",
+                                M_out: "N*m"})
 A = (a * sp.cos(phi), a * sp.sin(phi))
 E = (d + c_2 * sp.cos(theta_3 + sp.pi), c_2 * sp.sin(theta_3 + sp.pi))
 mechanism.link("crank and flywheel", J=J_1, angle=phi)

@@ -31,9 +31,7 @@ def _load_harness():
 msl = _load_harness()
 outcome_of = functools.lru_cache(maxsize=None)(msl.run_example)   # one run per session
 
-ELSEWHERE = {
-    "MultiBody.Loops.PlanarFourbar": "modelled on branch h-loops (the loop declaration)",
-}
+ELSEWHERE = {}
 
 
 def _examples():
