@@ -18,6 +18,7 @@ culprit) and calls :func:`mechdyn.kernels.loop.integrate` once per :meth:`advanc
 >>> bool(abs(dense_values(chunk.ts, chunk.coefs, [0.5])[0, 0] - np.exp(-1.0)) < 1e-9)
 True
 """
+import math
 from typing import NamedTuple
 
 import numpy as np
@@ -80,9 +81,11 @@ class Integration:
         self.rtol = float(rtol)
         if not self.rtol >= 0.0:
             raise ParameterError(f"rtol must be >= 0, got {rtol}")
-        self.atol = np.broadcast_to(np.asarray(atol, dtype=np.float64), (self.n,)).copy()
-        if not np.all(self.atol > 0.0):
-            raise ParameterError(f"atol must be > 0 for every state, got {atol}")
+        self.atol = (np.full(self.n, float(atol)) if np.ndim(atol) == 0
+                     else _vector("atol", atol))
+        if self.atol.size != self.n or not all(a > 0.0 for a in self.atol.tolist()):
+            raise ParameterError(f"atol must be one value > 0, or one per state ({self.n}),"
+                                 f" got {atol}")
         if not float(max_step) > 0.0:
             raise ParameterError(f"max_step must be > 0, got {max_step}")
         self.max_step = float(max_step)
@@ -157,7 +160,7 @@ class Integration:
         if directions.size and not self.functions.has_events:
             raise ParameterError(f"{directions.size} event directions given but the model"
                                  " has no events function")
-        bad = [int(d) for d in directions if d not in (-1, 0, 1, IGNORED)]
+        bad = [d for d in directions.tolist() if d not in (-1, 0, 1, IGNORED)]
         if bad:
             raise ParameterError(f"event directions must be +1, -1, 0 or {IGNORED} "
                                  f"(ignored), got {bad}")
@@ -189,6 +192,6 @@ def _vector(name, values, allow_empty=False):
     array = np.ascontiguousarray(values, dtype=np.float64).reshape(-1)
     if array.size == 0 and not allow_empty:
         raise ParameterError(f"{name} is empty")
-    if not np.all(np.isfinite(array)):
+    if not all(map(math.isfinite, array.tolist())):
         raise ParameterError(f"{name} must be finite, got {array.tolist()}")
     return array

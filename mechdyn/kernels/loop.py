@@ -217,8 +217,6 @@ def _compile(fingerprint):
                     if quiet >= QUIET_TO_FORGET:
                         stiff_hits = 0
                 switch = detect_switch and stiff_hits >= STIFF_HITS_TO_REPORT
-                if switch:
-                    stiff_hits = 0
                 if store_dense or watching:
                     dop853.dense_output(rhs, t, y, h, p, K, y_stage, y_new, poly)
                     counts[NFEV] += 3
@@ -232,8 +230,6 @@ def _compile(fingerprint):
                 elif h_next < 2.0 * h:   # steps that are still growing fast prove nothing
                     quiet += 1
                 switch = detect_switch and quiet >= NONSTIFF_STEPS
-                if switch:
-                    quiet = 0
                 if store_dense or watching:
                     rodas.dense_output(y, y_new, K, poly)
             rejected = False
@@ -270,8 +266,10 @@ def _compile(fingerprint):
             if status == CHUNK_FULL:
                 if last:
                     status = FINISHED
-                elif switch:
+                elif switch:   # report, and count afresh if the caller carries on
                     status = STIFF if method == DOP853 else NONSTIFF
+                    stiff_hits = 0
+                    quiet = 0
 
         carry[T] = t
         carry[H] = h
