@@ -100,10 +100,18 @@ def dense_output(rhs, t, y, h, p, K, y_stage, y_new, poly):
         rhs(t + C[s] * h, y_stage, p, K[s])
     # dop853.f's form: y + x(F0 + (1-x)(F1 + x(F2 + (1-x)(F3 + x(F4 + (1-x)(F5 + x F6))))))
     for i in range(n):
+        d3 = 0.0
+        d4 = 0.0
+        d5 = 0.0
+        d6 = 0.0
+        for j in range(16):
+            d3 += D[0, j] * K[j, i]
+            d4 += D[1, j] * K[j, i]
+            d5 += D[2, j] * K[j, i]
+            d6 += D[3, j] * K[j, i]
         delta = y_new[i] - y[i]
         f_terms = (delta, h * K[0, i] - delta, 2.0 * delta - h * (K[12, i] + K[0, i]),
-                   h * _dot16(D, 0, K, i), h * _dot16(D, 1, K, i),
-                   h * _dot16(D, 2, K, i), h * _dot16(D, 3, K, i))
+                   h * d3, h * d4, h * d5, h * d6)
         for k in range(8):
             poly[k, i] = 0.0
         poly[0, i] = f_terms[6]
@@ -123,10 +131,3 @@ def dense_output(rhs, t, y, h, p, K, y_stage, y_new, poly):
             poly[k, i] = poly[k - 1, i]
         poly[0, i] = y[i]
 
-
-@njit(cache=True)
-def _dot16(D, row, K, i):
-    total = 0.0
-    for j in range(16):
-        total += D[row, j] * K[j, i]
-    return total

@@ -106,9 +106,12 @@ def locate(events, p, t_old, t_new, y_new, poly, directions, memory, g_old, g_ne
         dense_value(poly, 0.5, y_work)
         events(t_mid, y_work, p, g_mid)
         counts[NGEV] += 1
-    roots = np.full(m, np.inf)
+    roots = np.empty(m)
     new_sign = np.zeros(m, np.int64)
-    old_memory = memory.copy()
+    old_memory = np.empty(m, np.int64)
+    for i in range(m):
+        roots[i] = np.inf
+        old_memory[i] = memory[i]
     for i in range(m):
         if directions[i] == IGNORED:
             continue

@@ -61,6 +61,12 @@ def initial_step(rhs, t, y, f0, p, rtol, atol, t_bound, max_step, exponent, y1, 
 
 
 @njit(cache=True)
+def _copy(source, target):
+    for i in range(source.shape[0]):
+        target[i] = source[i]
+
+
+@njit(cache=True)
 def _valid(method, functions, t_bound, rtol, atol, max_step, directions, max_steps,
            carry, counts, ts, ys, coefs, first, fired):
     n = atol.shape[0]
@@ -147,7 +153,7 @@ def _compile(fingerprint):
         if store:
             limit = min(limit, ts.shape[0] - 1 - first)
             ts[first] = t
-            ys[first, :] = y
+            _copy(y, ys[first])
         if store_dense:
             limit = min(limit, coefs.shape[0] - first)
 
@@ -175,10 +181,10 @@ def _compile(fingerprint):
             else:
                 t_new = t + h
             if method == DOP853:
-                K[0, :] = f0
+                _copy(f0, K[0])
                 err = dop853.attempt(rhs, t, y, h, t_new, p, atol, rtol, K, y_stage, y_new)
                 counts[NFEV] += 12
-                f_new[:] = K[12]
+                _copy(K[12], f_new)
             else:
                 if need_jacobian:
                     counts[NFEV] += rodas.jacobian(rhs, jac, has_jac, t, y, f0, p, J,
@@ -241,26 +247,27 @@ def _compile(fingerprint):
                                  g_old, g_new, g_mid, midpoint_events, y_work, g_work,
                                  fired, counts)
                 if math.isnan(t_event):
-                    g_old[:] = g_new
+                    _copy(g_new, g_old)
                 else:
                     status = EVENT
                     t_stop = t_event
-                    y_new[:] = y_work
+                    _copy(y_work, y_new)
                     shrink = (t_event - t) / h
                     for k in range(1, 8):
-                        poly[k, :] *= shrink ** k
+                        for i in range(n):
+                            poly[k, i] *= shrink ** k
             if t_stop > t:
                 if store_dense:
-                    rows = min(coefs.shape[1], 8)
-                    coefs[first + steps, :, :] = 0.0
-                    coefs[first + steps, :rows, :] = poly[:rows]
+                    for k in range(coefs.shape[1]):
+                        for i in range(n):
+                            coefs[first + steps, k, i] = poly[k, i] if k < 8 else 0.0
                 if store:
                     ts[first + steps + 1] = t_stop
-                    ys[first + steps + 1, :] = y_new
+                    _copy(y_new, ys[first + steps + 1])
                 steps += 1
             t = t_stop
-            y[:] = y_new
-            f0[:] = f_new
+            _copy(y_new, y)
+            _copy(f_new, f0)
             need_jacobian = True
             h = h_next
             if status == CHUNK_FULL:
