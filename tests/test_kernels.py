@@ -215,6 +215,16 @@ def test_watched_event_before_an_ignored_one_and_the_earliest_of_several_wins():
     assert abs(run.t - math.pi / 3) < 1e-9 and chunk.fired.tolist() == [0, 0, 0, -1]
 
 
+def test_changing_the_watched_events_at_a_stop_takes_their_signs_afresh():
+    run, chunk = oscillator_run(mk.RODAS5P, [mk.FALLING, mk.IGNORED, mk.IGNORED, mk.IGNORED])
+    assert abs(run.t - math.pi / 2) < 1e-9
+    run.change_model(directions=[mk.IGNORED, mk.EITHER, mk.IGNORED, mk.RISING])
+    chunk = run.advance(10.0)                  # -cos t rises through 0 at pi/2 itself: no
+    assert abs(run.t - 3 * math.pi / 2) < 1e-9 and chunk.fired.tolist() == [0, -1, 0, 0]
+    chunk = run.advance(10.0)                  # cos t = 1/2 rising at 5 pi / 3
+    assert abs(run.t - 5 * math.pi / 3) < 1e-9 and chunk.fired.tolist() == [0, 0, 0, 1]
+
+
 # -------------------------------------------------------------------- chunks, statuses
 @pytest.mark.parametrize("method", METHODS)
 def test_many_short_chunks_give_exactly_the_result_of_one_long_call(method):
@@ -287,7 +297,8 @@ def test_non_finite_derivative_is_reported_where_it_starts(method):
     assert abs(run.y[0] - run.t) < 1e-9
     run, chunk = solve(poisoned_after_half, [], [0.0], 1.0, method)
     run.carry[mk.layout.T] = 0.75             # restarting inside the poisoned region
-    assert run.advance(1.0).status == mk.NOT_FINITE and run.t == 0.75
+    chunk = run.advance(1.0)
+    assert chunk.status == mk.NOT_FINITE and chunk.ts.tolist() == [0.75] and run.t == 0.75
 
 
 def test_max_step_bounds_every_step():

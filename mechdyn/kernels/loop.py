@@ -131,6 +131,15 @@ def _compile(fingerprint):
         t = carry[T]
         for i in range(m):
             fired[i] = 0
+        store = ts.shape[0] > 0
+        store_dense = coefs.shape[0] > 0
+        limit = max_steps
+        if store:
+            limit = min(limit, ts.shape[0] - 1 - first)
+            ts[first] = t
+            _copy(y, ys[first])
+        if store_dense:
+            limit = min(limit, coefs.shape[0] - first)
         rhs(t, y, p, f0)
         counts[NFEV] += 1
         for i in range(n):
@@ -147,15 +156,6 @@ def _compile(fingerprint):
                 memory[i] = sign
                 watching = watching or directions[i] != IGNORED
             carry[EVENTS_VALID] = 1.0
-        store = ts.shape[0] > 0
-        store_dense = coefs.shape[0] > 0
-        limit = max_steps
-        if store:
-            limit = min(limit, ts.shape[0] - 1 - first)
-            ts[first] = t
-            _copy(y, ys[first])
-        if store_dense:
-            limit = min(limit, coefs.shape[0] - first)
 
         h = carry[H]
         if h <= 0.0 and t < t_bound:
