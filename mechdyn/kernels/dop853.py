@@ -22,7 +22,7 @@ MAX_FACTOR = 6.0     # dop853.f FAC2: ... and at most 6 times
 EXPONENT = 1.0 / 8.0
 
 
-@njit(cache=True)
+@njit
 def attempt(rhs, t, y, h, t_new, p, atol, rtol, K, y_stage, y_new):
     """Try a step of size ``h`` from (t, y) to ``t_new``: fills K[1:13], y_new, and the
     12th stage's argument in ``y_stage``. Returns the error norm (inf if anything in
@@ -60,7 +60,7 @@ def attempt(rhs, t, y, h, t_new, p, atol, rtol, K, y_stage, y_new):
     return norm if math.isfinite(norm) else math.inf
 
 
-@njit(cache=True)
+@njit(inline="always")
 def step_factor(err, rejected_before):
     """New step / old step after an error norm ``err`` (dop853.f's rule)."""
     if not math.isfinite(err):
@@ -72,7 +72,7 @@ def step_factor(err, rejected_before):
     return factor
 
 
-@njit(cache=True)
+@njit(inline="always")
 def stiffness_estimate(h, K, y_stage, y_new):
     """h times Hairer's estimate of the dominant eigenvalue's modulus:
     |f(y_new) - f(y_stage12)| / |y_new - y_stage12| (both at t + h)."""
@@ -86,7 +86,7 @@ def stiffness_estimate(h, K, y_stage, y_new):
     return 0.0
 
 
-@njit(cache=True)
+@njit
 def dense_output(rhs, t, y, h, p, K, y_stage, y_new, poly):
     """The 7th-order continuous extension as ``poly[k, i]`` (k = 0..7) with
     y_i(t + x h) = sum_k poly[k, i] x^k; evaluates the three extra stages K[13:16]."""

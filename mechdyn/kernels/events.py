@@ -28,7 +28,7 @@ EPS = np.finfo(np.float64).eps
 MAX_ITERATIONS = 200
 
 
-@njit(cache=True)
+@njit
 def dense_value(poly, x, out):
     """out = sum_k poly[k] x^k (Horner)."""
     degree = poly.shape[0] - 1
@@ -39,19 +39,19 @@ def dense_value(poly, x, out):
         out[i] = total
 
 
-@njit(cache=True)
+@njit
 def _sign(value):
     return 1 if value > 0.0 else (-1 if value < 0.0 else 0)
 
 
-@njit(cache=True)
+@njit
 def _g_at(events, p, i, t, t_old, h, poly, y_work, g_work):
     dense_value(poly, (t - t_old) / h, y_work)
     events(t, y_work, p, g_work)
     return g_work[i]
 
 
-@njit(cache=True)
+@njit
 def _root(events, p, i, t_old, h, poly, ta, ga, tb, gb, y_work, g_work, counts):
     """A root of g_i in [ta, tb] with g(ta) of the old sign (or 0), g(tb) of the new:
     the first point on the new side once the bracket is below 4 eps |t|."""
@@ -89,7 +89,7 @@ def _root(events, p, i, t_old, h, poly, ta, ga, tb, gb, y_work, g_work, counts):
     return tb
 
 
-@njit(cache=True)
+@njit
 def locate(events, p, t_old, t_new, y_new, poly, directions, memory, g_old, g_new, g_mid,
            midpoint, y_work, g_work, fired, counts):
     """Check the step [t_old, t_new] (g_old at t_old given); fills g_new and updates

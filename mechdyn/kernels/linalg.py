@@ -14,7 +14,7 @@ True
 from numba import njit
 
 
-@njit(cache=True)
+@njit(inline="always")
 def lu_factor(a, piv):
     """Factor the square ``a`` in place as P A = L U (unit lower L); pivots into ``piv``.
 
@@ -45,7 +45,7 @@ def lu_factor(a, piv):
     return True
 
 
-@njit(cache=True)
+@njit(inline="always")
 def lu_solve(lu, piv, b):
     """Solve A x = b in place in ``b`` from the factors of :func:`lu_factor`."""
     n = lu.shape[0]

@@ -32,7 +32,7 @@ SIGNATURE = types.UniTuple(types.int64, 2)(
 ERROR_EXPONENT = (1.0 / 8.0, 1.0 / 5.0)   # 1 / (order of the error estimate + 1)
 
 
-@njit(cache=True)
+@njit
 def initial_step(rhs, t, y, f0, p, rtol, atol, t_bound, max_step, exponent, y1, f1):
     """Hairer's / scipy's starting step (one RHS evaluation)."""
     n = y.shape[0]
@@ -60,13 +60,13 @@ def initial_step(rhs, t, y, f0, p, rtol, atol, t_bound, max_step, exponent, y1, 
     return min(100.0 * h0, h1, t_bound - t, max_step)
 
 
-@njit(cache=True)
+@njit(inline="always")
 def _copy(source, target):
     for i in range(source.shape[0]):
         target[i] = source[i]
 
 
-@njit(cache=True)
+@njit
 def _valid(method, functions, t_bound, rtol, atol, max_step, directions, max_steps,
            carry, counts, ts, ys, coefs, first, fired):
     n = atol.shape[0]

@@ -68,7 +68,7 @@ EPS = np.finfo(np.float64).eps
 CUBE_ROOT_EPS = EPS ** (1.0 / 3.0)
 
 
-@njit(cache=True)
+@njit
 def jacobian(rhs, jac, has_jac, t, y, f0, p, J, y_work, f_work):
     """J = df/dy at (t, y): the model's ``jac``, or central differences with increments
     eps^(1/3) max(|y_j|, 1e-5) (relative error ~eps^(2/3): forward differences, error
@@ -96,7 +96,7 @@ def jacobian(rhs, jac, has_jac, t, y, f0, p, J, y_work, f_work):
     return 2 * n
 
 
-@njit(cache=True)
+@njit
 def time_derivative(rhs, t, y, f0, p, dfdt):
     """df/dt at (t, y) by a forward difference (rodas.f's increment)."""
     delta = math.sqrt(EPS * max(1e-5, abs(t)))
@@ -105,7 +105,7 @@ def time_derivative(rhs, t, y, f0, p, dfdt):
         dfdt[i] = (dfdt[i] - f0[i]) / delta
 
 
-@njit(cache=True)
+@njit
 def attempt(rhs, t, y, f0, h, t_new, p, atol, rtol, J, dfdt, autonomous, W, pivots, ks,
             y_stage, f_stage, y_new, f_new):
     """Try a step of size ``h`` to ``t_new``: fills ks, y_new and f_new = f(t_new, y_new).
@@ -114,7 +114,8 @@ def attempt(rhs, t, y, f0, h, t_new, p, atol, rtol, J, dfdt, autonomous, W, pivo
     is singular (the caller halves the step).
     """
     n = y.shape[0]
-    inverse_hg = 1.0 / (h * GAMMA)
+    inverse_h = 1.0 / h
+    inverse_hg = inverse_h / GAMMA
     for i in range(n):
         for j in range(n):
             W[i, j] = -J[i, j]
@@ -137,7 +138,7 @@ def attempt(rhs, t, y, f0, h, t_new, p, atol, rtol, J, dfdt, autonomous, W, pivo
             if not autonomous:
                 total += h * D[s] * dfdt[i]
             for j in range(s):
-                total += C[s, j] / h * ks[j, i]
+                total += C[s, j] * inverse_h * ks[j, i]
             ks[s, i] = total
         lu_solve(W, pivots, ks[s])
     for i in range(n):
@@ -153,7 +154,7 @@ def attempt(rhs, t, y, f0, h, t_new, p, atol, rtol, J, dfdt, autonomous, W, pivo
     return err if math.isfinite(err) else math.inf
 
 
-@njit(cache=True)
+@njit(inline="always")
 def step_factor(err, h, rejected_before, h_accepted, err_accepted):
     """New step / old step after an error norm ``err`` (rodas.f's rule, with
     Gustafsson's predictive controller once a step has been accepted)."""
@@ -171,7 +172,7 @@ def step_factor(err, h, rejected_before, h_accepted, err_accepted):
     return 1.0 / divisor
 
 
-@njit(cache=True)
+@njit
 def dense_output(y, y_new, ks, poly):
     """Monomial coefficients poly[0:5] of the 4th-order interpolant (module doc);
     the higher rows of ``poly`` are zeroed."""
@@ -192,7 +193,7 @@ def dense_output(y, y_new, ks, poly):
             poly[k, i] = 0.0
 
 
-@njit(cache=True)
+@njit
 def spectral_radius(J, v, w, u):
     """Estimate of J's spectral radius by two steps of power iteration from ``v``,
     sqrt(|J J v| / |v|) (exact for a dominant real pair +-lambda or complex pair +-i w,
@@ -221,7 +222,7 @@ def spectral_radius(J, v, w, u):
     return math.sqrt(math.sqrt(norm_u / norm_v))
 
 
-@njit(cache=True)
+@njit(inline="always")
 def _matvec(J, x, out):
     n = x.shape[0]
     for i in range(n):
