@@ -344,6 +344,14 @@ def test_kernel_is_compiled_once_for_all_models():
     assert len(signatures) == 1 and list(mk.integrate.signatures) == signatures
 
 
+def test_every_compiled_kernel_module_keys_the_cache():
+    from pathlib import Path
+    from mechdyn.kernels import loop
+    python_side = {"__init__", "api"}
+    modules = {path.stem for path in Path(loop.__file__).parent.glob("*.py")}
+    assert modules - python_side == set(loop.COMPILED_MODULES)
+
+
 def test_bad_inputs_name_the_culprit():
     @njit("void(float64, float64[:], float64[:], float64[:])")
     def strided(t, y, p, out):

@@ -1,8 +1,9 @@
 """Compiled ODE integration kernels (numba): DOP853 and Rodas5P with dense output,
 event location and stiffness-switch tests, driven in chunks from Python.
 
-Import cost: numba (about 0.2 s) plus loading the cached kernel; nothing else in mechdyn
-imports this package, so runs that do not use it do not pay for it.
+Import cost: numba (about 0.2 s), numba's one-time initialisation and the cached kernel
+(about 0.4 s together); nothing else in mechdyn imports this package. The first import
+after installing or editing a kernel module compiles the kernel (10-20 s).
 
 Model functions (see :mod:`.functions`) are numba functions with the signatures
 ``RHS_SIGNATURE`` / ``JAC_SIGNATURE`` / ``EVENTS_SIGNATURE``; :func:`model_functions`
@@ -14,7 +15,7 @@ The kernel (:func:`integrate`, in :mod:`.loop`)::
         method,            # int64: DOP853 (0) or RODAS5P (1)
         functions,         # int64[6]: ModelFunctions.addresses (rhs, jac, events)
         p,                 # float64[::1]: parameters passed to the model functions
-        t_bound,           # float64: stop there (> current t; may be inf)
+        t_bound,           # float64: stop there (>= current t; may be inf)
         rtol, atol,        # float64, float64[n] (> 0)
         max_step,          # float64 (inf: none)
         autonomous,        # bool: f does not depend on t (RODAS5P skips df/dt)
@@ -26,10 +27,11 @@ The kernel (:func:`integrate`, in :mod:`.loop`)::
         counts,            # int64[6]: nfev, njev, nlu, naccept, nreject, ngev (added to)
         ts, ys,            # float64[N+1], float64[N+1, n]: step boundaries (N = 0: none)
         coefs,             # float64[N, >= degree+1, n]: dense output per step (N = 0: none)
-        first,             # int64: write step k at index first + k (append to buffers)
+        first,             # int64: where this call starts writing (append to buffers)
         fired)             # int64[m]: +1/-1 for each event firing at the stop, else 0
 
-It writes ``ts[first] = t`` (start), then per accepted step k the end time
+Returns the status and the number of steps written. It writes ``ts[first] = t`` and
+``ys[first] = y`` (the start), then per accepted step k = 0, 1, ... the end time
 ``ts[first+k+1]``, state ``ys[first+k+1]`` and the step's polynomial
 ``coefs[first+k, j, i]``: y_i(t) = sum_j coefs[first+k, j, i] x^j with
 x = (t - ts[first+k]) / (ts[first+k+1] - ts[first+k]) in [0, 1]. An event truncates its
@@ -38,7 +40,8 @@ then holds the state there.
 
 Statuses (:mod:`.layout`): FINISHED, EVENT, CHUNK_FULL, STIFF, NONSTIFF (carry at the
 last accepted step; switch method and call again), STEP_TOO_SMALL, NOT_FINITE,
-INVALID_INPUT. Calling again with the returned carry continues exactly where the last
+INVALID_INPUT (nothing written: array sizes that do not fit, non-positive atol, ...).
+Calling again with the returned carry continues exactly where the last
 call stopped: one long call and many short ones give identical results (f(t, y) is
 re-evaluated at the start of each call, one RHS evaluation per call). After changing
 the model functions, parameters or event functions, set ``carry[EVENTS_VALID] = 0``

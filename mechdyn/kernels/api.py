@@ -17,6 +17,22 @@ culprit) and calls :func:`mechdyn.kernels.loop.integrate` once per :meth:`advanc
 ('finished', True)
 >>> bool(abs(dense_values(chunk.ts, chunk.coefs, [0.5])[0, 0] - np.exp(-1.0)) < 1e-9)
 True
+
+A driver that switches methods on the kernel's stiffness statuses (a composite method,
+as LSODA or DifferentialEquations.jl's AutoTsit5(Rosenbrock23()) do):
+
+>>> from mechdyn.kernels import CHUNK_FULL, DOP853, NONSTIFF, RODAS5P, STIFF
+>>> @njit(RHS_SIGNATURE)
+... def van_der_pol(t, y, p, out):
+...     out[0] = y[1]
+...     out[1] = p[0] * (1.0 - y[0] ** 2) * y[1] - y[0]
+>>> run = Integration(model_functions(van_der_pol), [1000.0], 0.0, [2.0, 0.0], rtol=1e-6,
+...                   atol=1e-8, method=DOP853, autonomous=True)
+>>> while (chunk := run.advance(3000.0, 10_000)).status in (STIFF, NONSTIFF, CHUNK_FULL):
+...     if chunk.status != CHUNK_FULL:
+...         run.switch(RODAS5P if chunk.status == STIFF else DOP853)
+>>> chunk.status_name, run.t, round(float(run.y[0]), 3)
+('finished', 3000.0, -1.511)
 """
 import math
 from typing import NamedTuple
