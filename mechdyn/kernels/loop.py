@@ -1,9 +1,10 @@
 """The compiled integration loop: :func:`integrate`, one entry point for both methods.
 
-Compiled once, with an explicit signature, and cached on disk (``NUMBA_CACHE_DIR`` or
-``__pycache__``). numba keys its cache on this file only, so the loop is built in a
-closure over a fingerprint of the sources it is compiled from (``COMPILED_MODULES``):
-editing any of them recompiles it instead of loading stale machine code.
+Compiled once, with an explicit signature, releasing the GIL (threads can run kernels
+in parallel), and cached on disk (``NUMBA_CACHE_DIR`` or ``__pycache__``). numba keys its
+cache on this file only, so the loop is built in a closure over a fingerprint of the
+sources it is compiled from (``COMPILED_MODULES``): editing any of them recompiles it
+instead of loading stale machine code.
 """
 import hashlib
 import math
@@ -96,7 +97,7 @@ def _valid(method, functions, t_bound, rtol, atol, max_step, directions, max_ste
 
 
 def _compile(fingerprint):
-    @njit(SIGNATURE, cache=True)
+    @njit(SIGNATURE, cache=True, nogil=True)
     def integrate(method, functions, p, t_bound, rtol, atol, max_step, autonomous,
                   midpoint_events, detect_switch, directions, max_steps, carry, counts,
                   ts, ys, coefs, first, fired):
