@@ -41,8 +41,8 @@ import numpy as np
 
 from ..errors import MechdynError, ParameterError
 from .functions import ModelFunctions
-from .layout import (DEGREE, DOP853, EVENTS_VALID, H, HEAD, IGNORED, INVALID_INPUT,
-                     METHOD, METHOD_NAMES, N_COUNTS, RODAS5P, STATUS_NAMES, T, COUNT_NAMES,
+from .layout import (COUNT_NAMES, DEGREE, DOP853, EVENTS_VALID, H, HEAD, IGNORED,
+                     INVALID_INPUT, METHOD, METHOD_NAMES, N_COUNTS, RODAS5P, STATUS_NAMES, T,
                      carry_size)
 from .loop import integrate
 
@@ -160,15 +160,12 @@ class Integration:
             self.functions = functions
         if p is not None:
             self.p = _vector("p", p, allow_empty=True)
-        if directions is not None:
-            directions = self._directions(directions)
-            if directions.size != self.directions.size:
-                carry = new_carry(self.t, self.y, directions.size)
-                carry[:HEAD] = self.carry[:HEAD]
-                carry[HEAD + self.n:HEAD + 2 * self.n] = self.carry[HEAD + self.n:
-                                                                    HEAD + 2 * self.n]
-                self.carry = carry
-            self.directions = directions
+        directions = self._directions(self.directions if directions is None else directions)
+        if directions.size != self.directions.size:
+            carry = new_carry(self.t, self.y, directions.size)
+            carry[:HEAD + 2 * self.n] = self.carry[:HEAD + 2 * self.n]
+            self.carry = carry
+        self.directions = directions
         self.carry[EVENTS_VALID] = 0.0
 
     def _directions(self, directions):

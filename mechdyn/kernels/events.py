@@ -13,9 +13,8 @@ fires only on a later crossing. The earliest root wins; every event whose root l
 within 16 eps max(|t|) of it fires with it.
 
 Limitation: a g that crosses and re-crosses zero between two samples (within one step,
-or half a step with the midpoint sample) is not seen; the midpoint sample halves the
-gap. Event functions should be monotone over a step, as mechdyn's are (positions,
-speeds, forces), or the step size limited by ``max_step``.
+or half a step with the midpoint sample) is not seen. Where an event function can
+oscillate faster than the solution is stepped, bound the step with ``max_step``.
 """
 import math
 
