@@ -314,22 +314,28 @@ print(numba_done - started, mechdyn_done - numba_done, done - mechdyn_done)
 
 def process_table(repeats):
     """Fresh processes: an empty numba cache (compiles the kernel and the model), then
-    the filled cache (best of ``repeats``)."""
+    the filled cache (best of ``repeats``); and, for scale, the process that only
+    imports numpy and scipy.integrate (issue 15's reference for a warm CLI run)."""
     with tempfile.TemporaryDirectory() as tmp:
         Path(tmp, "model.py").write_text(MODEL)
         env = {**os.environ, "NUMBA_CACHE_DIR": str(Path(tmp, "cache"))}
         probe = PROBE.format(root=str(ROOT), tmp=tmp)
 
-        def measure():
-            out = subprocess.run([sys.executable, "-c", probe], env=env, check=True,
+        def measure(code=probe):
+            started = time.perf_counter()
+            out = subprocess.run([sys.executable, "-c", code], env=env, check=True,
                                  capture_output=True, text=True).stdout.split()
-            return [float(x) for x in out]
+            return [float(x) for x in out] + [time.perf_counter() - started]
         cold = measure()
-        warm = min((measure() for _ in range(repeats)), key=lambda r: r[2])
+        warm = min((measure() for _ in range(repeats)), key=lambda r: r[-1])
+        scipy_only = min(measure("import numpy, scipy.integrate")[-1]
+                         for _ in range(repeats))
     print("\nprocess (s)                 import numpy+numba  import mechdyn  "
-          "kernels import + first call")
-    print(f"cold (empty numba cache)    {cold[0]:18.2f} {cold[1]:15.2f} {cold[2]:17.2f}")
-    print(f"warm (cache filled)         {warm[0]:18.2f} {warm[1]:15.2f} {warm[2]:17.2f}")
+          "kernels import + first call  whole process")
+    for label, row in (("cold (empty numba cache)", cold), ("warm (cache filled)", warm)):
+        print(f"{label:27} {row[0]:18.2f} {row[1]:15.2f} {row[2]:28.2f} {row[3]:14.2f}")
+    reference = 'python -c "import numpy, scipy.integrate"'
+    print(f"{reference:75} {scipy_only:14.2f}")
     print("\nbytes stored per step (n states): DOP853 8 + 72 n (t, y, 8 coefficients), "
           "Rodas5P 8 + 48 n (t, y, 5 coefficients)")
 

@@ -352,6 +352,14 @@ def test_every_compiled_kernel_module_keys_the_cache():
     assert modules - python_side == set(loop.COMPILED_MODULES)
 
 
+def test_a_lazily_compiled_numba_function_is_compiled_for_the_kernel():
+    @njit
+    def lazy(t, y, p, out):
+        out[0] = -y[0]
+    run = mk.Integration(mk.model_functions(lazy), [], 0.0, [1.0], **TIGHT)
+    assert run.advance(1.0).status == mk.FINISHED and abs(run.y[0] - math.exp(-1)) < 1e-9
+
+
 def test_bad_inputs_name_the_culprit():
     @njit("void(float64, float64[:], float64[:], float64[:])")
     def strided(t, y, p, out):

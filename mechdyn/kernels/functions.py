@@ -101,6 +101,13 @@ def _addresses(role, function, function_type):
     signature = function_type.signature
     if isinstance(function, Dispatcher):
         compiled = [tuple(s) for s in function.signatures]
+        if tuple(signature.args) not in compiled and getattr(function, "_can_compile", 0):
+            try:                  # a lazy @njit function: compile it for the kernels
+                function.compile(signature.args)
+                compiled.append(tuple(signature.args))
+            except Exception as error:
+                raise MechdynError(f"the model's {role} function {function.__name__!r} "
+                                   f"does not compile for {signature}: {error}") from error
         if tuple(signature.args) not in compiled:
             raise MechdynError(
                 f"the model's {role} function {function.__name__!r} is not compiled with "
