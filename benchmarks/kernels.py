@@ -48,7 +48,8 @@ SIG, JSIG = mk.RHS_SIGNATURE, mk.JAC_SIGNATURE
 def crank(t, y, p, out):
     s, c = math.sin(y[0]), math.cos(y[0])
     out[0] = y[1]
-    out[1] = (p[3] - p[1] * p[2] ** 2 * s * c * y[1] ** 2) / (p[0] + p[1] * p[2] ** 2 * s * s)
+    ml2 = p[1] * p[2] ** 2                      # I(phi) = J + m l^2 sin^2 phi
+    out[1] = (p[3] - ml2 * s * c * y[1] ** 2) / (p[0] + ml2 * s * s)
 
 
 @njit(SIG, cache=True)
@@ -64,8 +65,9 @@ def drive(t, y, p, out):
 def drive_jac(t, y, p, out):
     out[:, :] = 0.0
     out[0, 2] = out[1, 3] = 1.0
-    out[2, 0], out[2, 1], out[2, 2], out[2, 3] = -p[2] / p[0], p[2] / p[0], -p[3] / p[0], p[3] / p[0]
-    out[3, 0], out[3, 1], out[3, 2], out[3, 3] = p[2] / p[1], -p[2] / p[1], p[3] / p[1], -p[3] / p[1]
+    for row, inertia, sign in ((2, p[0], -1.0), (3, p[1], 1.0)):
+        out[row, 0], out[row, 1] = sign * p[2] / inertia, -sign * p[2] / inertia
+        out[row, 2], out[row, 3] = sign * p[3] / inertia, -sign * p[3] / inertia
 
 
 @njit(SIG, cache=True)
@@ -184,7 +186,8 @@ def scipy_run(problem, method, rtol):
     result = solve_ivp(scipy_fun(problem["rhs"], problem["p"], n), (0.0, problem["t_end"]),
                        problem["y0"], method=method, rtol=rtol, atol=rtol * 1e-2,
                        dense_output=True, **options)
-    return (lambda times: result.sol(times).T), result.t.size - 1, result.nfev, result.success
+    solution = lambda times: result.sol(times).T  # noqa: E731
+    return solution, result.t.size - 1, result.nfev, result.success
 
 
 _floors = {}
@@ -247,7 +250,8 @@ def run_table(repeats, quick):
                     ("kernel Rodas5P", lambda: kernel_run(problem, mk.RODAS5P, rtol)),
                     ("kernel Rodas5P fd", lambda: kernel_run(problem, mk.RODAS5P, rtol,
                                                              use_jac=False)),
-                    ("kernel auto", lambda: kernel_run(problem, mk.DOP853, rtol, auto=True)),
+                    ("kernel auto", lambda: kernel_run(problem, mk.DOP853, rtol,
+                                                       auto=True)),
                     ("scipy Radau", lambda: scipy_run(problem, "Radau", rtol)),
                     ("scipy LSODA", lambda: scipy_run(problem, "LSODA", rtol))]
             if not problem["stiff"]:
@@ -285,7 +289,8 @@ def robustness_table():
             steps.append(accepted)
             errors.append(error(solution, problem["reference"], problem["t_end"]) if ok
                           else math.inf)
-        print(f"  {problem['name']:14} {min(steps):7d} / {max(steps):7d}   {max(errors):.1e}")
+        print(f"  {problem['name']:14} {min(steps):7d} / {max(steps):7d}   "
+              f"{max(errors):.1e}")
 
 
 MODEL = '''

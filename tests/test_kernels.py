@@ -107,7 +107,7 @@ C_DAMPED = 2 * 0.1 * math.sqrt(K * J1 * J2 / (J1 + J2))
 
 
 def drive_exact(times, c):
-    """The linear drive y' = A y + b solved by the matrix exponential of [[A, b], [0, 0]]."""
+    """The linear drive y' = A y + b by the matrix exponential of [[A, b], [0, 0]]."""
     a = np.zeros((5, 5))
     a[0, 2] = a[1, 3] = 1.0
     a[2, :4] = np.array([-K, K, -c, c]) / J1
@@ -140,11 +140,13 @@ def test_harmonic_oscillator_keeps_phase_and_energy_over_ten_periods(method):
 
 
 def test_rodas5p_uses_the_time_derivative_of_a_forced_stiff_problem():
-    lam = 1e4   # y' = -lam (y - cos t): exact y = (lam^2 cos t + lam sin t)/(lam^2 + 1) + C e^-lam t
+    # y' = -lam (y - cos t): y = (lam^2 cos t + lam sin t) / (lam^2 + 1) + C e^(-lam t)
+    lam = 1e4
     run, chunk = solve(forced_stiff, [lam], [0.0], 2.0, mk.RODAS5P)
     times = np.linspace(0.01, 2.0, 500)
     exact = (lam ** 2 * np.cos(times) + lam * np.sin(times)) / (lam ** 2 + 1)
-    assert np.max(np.abs(mk.dense_values(chunk.ts, chunk.coefs, times)[:, 0] - exact)) < 1e-9
+    dense = mk.dense_values(chunk.ts, chunk.coefs, times)[:, 0]
+    assert np.max(np.abs(dense - exact)) < 1e-9
 
 
 @pytest.mark.parametrize("method,jacobian", [(mk.DOP853, None), (mk.RODAS5P, None),
@@ -216,7 +218,8 @@ def test_watched_event_before_an_ignored_one_and_the_earliest_of_several_wins():
 
 
 def test_changing_the_watched_events_at_a_stop_takes_their_signs_afresh():
-    run, chunk = oscillator_run(mk.RODAS5P, [mk.FALLING, mk.IGNORED, mk.IGNORED, mk.IGNORED])
+    ignored = mk.IGNORED
+    run, chunk = oscillator_run(mk.RODAS5P, [mk.FALLING, ignored, ignored, ignored])
     assert abs(run.t - math.pi / 2) < 1e-9
     run.change_model(directions=[mk.IGNORED, mk.EITHER, mk.IGNORED, mk.RISING])
     chunk = run.advance(10.0)                  # -cos t rises through 0 at pi/2 itself: no
@@ -248,20 +251,22 @@ def test_many_short_chunks_give_exactly_the_result_of_one_long_call(method):
 def test_raw_kernel_appends_chunks_into_the_callers_buffers():
     functions, p = mk.model_functions(crank), np.array([0.5, 2.0, 3.0])
     capacity, no_events = 1000, np.zeros(0, np.int64)
-    ts, ys, coefs = np.zeros(capacity + 1), np.zeros((capacity + 1, 2)), np.zeros((capacity, 8, 2))
+    ts, ys = np.zeros(capacity + 1), np.zeros((capacity + 1, 2))
+    coefs = np.zeros((capacity, 8, 2))
     carry, counts = mk.new_carry(0.0, [0.0, 0.0]), np.zeros(6, np.int64)
 
     def call(first, max_steps):
         return mk.integrate(mk.DOP853, functions.addresses, p, 5.0, 1e-8, np.full(2, 1e-10),
-                            np.inf, False, False, False, no_events, max_steps, carry, counts,
-                            ts, ys, coefs, first, no_events)
+                            np.inf, False, False, False, no_events, max_steps, carry,
+                            counts, ts, ys, coefs, first, no_events)
     first, status = 0, mk.CHUNK_FULL
     while status == mk.CHUNK_FULL:
         status, steps = call(first, 5)
         first += steps
     run, chunk = solve(crank, p, [0.0, 0.0], 5.0, mk.DOP853, rtol=1e-8, atol=1e-10)
     assert status == mk.FINISHED and counts[mk.layout.NACCEPT] == first
-    assert np.array_equal(ts[:first + 1], chunk.ts) and np.array_equal(coefs[:first], chunk.coefs)
+    assert np.array_equal(ts[:first + 1], chunk.ts)
+    assert np.array_equal(coefs[:first], chunk.coefs)
     assert call(capacity + 1, 5) == (mk.INVALID_INPUT, 0)     # beyond the buffers: refused
 
 

@@ -42,8 +42,8 @@ import numpy as np
 from ..errors import MechdynError, ParameterError
 from .functions import ModelFunctions
 from .layout import (COUNT_NAMES, DEGREE, DOP853, EVENTS_VALID, H, HEAD, IGNORED,
-                     INVALID_INPUT, METHOD, METHOD_NAMES, N_COUNTS, RODAS5P, STATUS_NAMES, T,
-                     carry_size)
+                     INVALID_INPUT, METHOD, METHOD_NAMES, N_COUNTS, RODAS5P, STATUS_NAMES,
+                     T, carry_size)
 from .loop import integrate
 
 __all__ = ["Chunk", "Integration", "dense_values", "new_carry"]

@@ -9,7 +9,7 @@ Plain module-level integers, so numba folds them into the compiled code as const
 
 # ----------------------------------------------------------------------------- methods
 DOP853 = 0    #: explicit Dormand-Prince 8(5,3), 7th-order dense output (Hairer)
-RODAS5P = 1   #: Rosenbrock 5(4), 4th-order dense output (Steinebach 2023), for stiff problems
+RODAS5P = 1   #: Rosenbrock 5(4), 4th-order dense output (Steinebach 2023): stiff
 METHOD_NAMES = ("DOP853", "Rodas5P")
 DEGREE = (7, 4)   #: degree of each method's dense-output polynomial
 MAX_DEGREE = 7
