@@ -14,8 +14,8 @@ constraint). The functions:
   (name, offset, shape): the lower triangle of ``M``, ``f``, and per friction element
   its gradient, the velocity part of its second derivative (``bias``), its magnitude
   and its sliding rate;
-- ``events``: the stop conditions, the friction elements' sliding rates and the
-  switching functions (where a ``Piecewise``, ``Min``, ``Max``, ``Abs``, ``sign`` or
+- ``events``: the stop conditions, the friction elements' sliding rates and magnitudes,
+  and the switching functions (where a ``Piecewise``, ``Min``, ``Max``, ``Abs``, ``sign`` or
   ``Heaviside`` of the forcing changes branch), in the order of ``meta["events"]``; the
   branches are locked by flags in ``p`` after the friction signs (:class:`Switches`);
 - ``outputs``, ``energy`` (``[T, V]``).
@@ -89,7 +89,7 @@ def generate(eqs, scene, elements) -> tuple:
         ("constraint_rate", (len(constraints),),
          [r(sp.diff(c.expression, t)) for c in constraints])])
     event_exprs = [r(e) for _, e in stops] + [r(fr.rate) for fr in frictions] \
-        + [r(e) for e in switches.functions]
+        + [r(m) for m in magnitudes] + [r(e) for e in switches.functions]
     if constraints:      # closed loops: rhs solves M a = f + G' lambda, G a = -bias
         from .loop_code import loop_sources
         loops = loop_sources(eqs, mass, force, rename, source, states)
@@ -118,6 +118,7 @@ def generate(eqs, scene, elements) -> tuple:
         "terms": layout,
         "events": [["stop", label] for label, _ in stops]
         + [["rate", fr.name] for fr in frictions]
+        + [["magnitude", fr.name] for fr in frictions]
         + [["switch", str(e)] for e in switches.functions],
         "periods": len(periods),
         "eliminated": {c.func.__name__: str(e) for c, e in eqs.eliminated.items()},
