@@ -34,7 +34,7 @@ import numpy as np
 
 from .events import Event
 
-__all__ = ["Mode", "FrictionModes"]
+__all__ = ["Mode", "FrictionModes", "allowed_motions"]
 
 _PARALLEL = 1e-12          # relative misalignment under which two gradients are parallel
 _CANNOT_HOLD = 1e-12       # relative G M^-1 G' under which a constraint cannot act
@@ -129,7 +129,7 @@ class FrictionModes:
         """The candidates whose constraint can act: ``G M^-1 G'`` not negligible, on the
         motions the closed loops allow (mass and gradient reduced to them)."""
         mass, grads = terms["mass"], terms["friction_gradient"]
-        basis = _allowed_motions(terms["constraint_gradient"], self.n)
+        basis = allowed_motions(terms["constraint_gradient"], self.n)
         mass = basis.T @ mass @ basis
         held = []
         for k in candidates:
@@ -238,21 +238,10 @@ class FrictionModes:
         return y
 
     # ------------------------------------------------------------- events
-    def watched(self, mode) -> list:
-        """``(kind, element, direction)`` of the friction events of a mode: ``stick``
-        (a sliding speed falls through zero against its sign), ``release`` (a group's
-        holding margin falls through zero), ``engage`` (a free element's magnitude rises
-        through zero)."""
-        out = []
-        for k, sign in enumerate(mode.signs):
-            if sign != 0:
-                out.append(("stick", k, -sign))
-        out += [("release", i, -1) for i in range(len(mode.groups))]
-        out += [("engage", k, 1) for k in sorted(mode.free)]
-        return out
-
     def event_values(self, t, y, mode, watched) -> list:
-        """The values of the :meth:`watched` event functions at a state."""
+        """The values of friction event functions at a state, ``watched`` a list of
+        ``(kind, index, direction)``: a group's release margin, a sliding speed, a
+        magnitude."""
         if not watched:
             return []
         terms = self.c.terms(t, y, self.p(mode))
@@ -270,15 +259,8 @@ class FrictionModes:
                 out.append(magnitude[index])
         return out
 
-    def release_signs(self, t, y, mode, group_index) -> dict:
-        """The sliding sign of each element of a released group: the way the holding
-        force needed at ``(t, y)`` (just past the release) says the loads push."""
-        _, holding = self._solve(t, y, mode)
-        slide = -math.copysign(1.0, holding[group_index])
-        return {k: slide * math.copysign(1.0, alpha) for k, alpha in mode.groups[group_index]}
 
-
-def _allowed_motions(loop_gradients, n):
+def allowed_motions(loop_gradients, n):
     """A basis of the speeds the closed loops allow (the null space of their
     gradients); the identity without loops."""
     if not len(loop_gradients):

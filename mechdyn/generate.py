@@ -121,6 +121,8 @@ def generate(eqs, scene, elements) -> tuple:
         + [["magnitude", fr.name] for fr in frictions]
         + [["switch", str(e)] for e in switches.functions],
         "periods": len(periods),
+        "autonomous": not any(t in sp.sympify(e).free_symbols
+                              for e in [mass_matrix, forcing] + magnitudes),
         "eliminated": {c.func.__name__: str(e) for c, e in eqs.eliminated.items()},
         "elements": list(eqs.elements), "excluded": list(eqs.excluded),
         "rigid": list(eqs.rigid),

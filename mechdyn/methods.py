@@ -25,11 +25,15 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["choose_method", "explicit_for", "STIFF", "StiffnessMonitor", "fallbacks",
-           "STABILITY_LIMIT", "STIFF_RTOL_FLOOR", "segment_tolerances", "motion_jacobian"]
+__all__ = ["choose_method", "explicit_for", "stiff_for", "STIFF", "StiffnessMonitor",
+           "fallbacks", "STABILITY_LIMIT", "STIFF_RTOL_FLOOR", "segment_tolerances",
+           "motion_jacobian", "backend_plan", "BackendPlan", "BACKENDS", "KERNEL_ONLY"]
 
 STIFF = "Radau"
 STIFF_RTOL_FLOOR = 1e-8
+BACKENDS = ("auto", "scipy", "compiled")
+KERNEL_ONLY = ("Rodas5P",)                 # methods only the compiled kernels have
+_KERNEL = ("DOP853", "Rodas5P")            # methods the compiled kernels have
 _STIFFNESS_LIMIT = 2000.0   # explicit steps forced by stability alone before it is stiff
 # Where the stability region of each explicit method crosses the negative real axis.
 STABILITY_LIMIT = {"DOP853": 6.0, "RK45": 3.3, "RK23": 2.5}
@@ -38,6 +42,11 @@ STABILITY_LIMIT = {"DOP853": 6.0, "RK45": 3.3, "RK23": 2.5}
 def explicit_for(rtol) -> str:
     """DOP853 at tight tolerances, RK45 at loose ones (fewer stages per step)."""
     return "DOP853" if rtol < 1e-6 else "RK45"
+
+
+def stiff_for(backend) -> str:
+    """The stiff method of a backend: Radau on scipy, Rodas5P compiled."""
+    return "Rodas5P" if backend == "compiled" else STIFF
 
 
 def motion_jacobian(compiled, t, y, p):
@@ -130,7 +139,94 @@ def segment_tolerances(method, rtol, atol) -> tuple:
     return STIFF_RTOL_FLOOR, np.asarray(atol) * (STIFF_RTOL_FLOOR / rtol)
 
 
-def fallbacks(method, rtol) -> list:
-    """The methods to try, in order, after ``method`` failed at some state."""
-    ladder = [STIFF, "LSODA", "BDF", explicit_for(rtol)]
+def fallbacks(method, rtol, compiled=False) -> list:
+    """The methods to try, in order, after ``method`` failed at some state (with the
+    compiled kernels in use, their Rodas5P first)."""
+    ladder = (["Rodas5P"] if compiled else []) + [STIFF, "LSODA", "BDF", explicit_for(rtol)]
     return [m for m in ladder if m != method]
+
+
+def backend_plan(compiled, method, backend) -> "BackendPlan":
+    """The :class:`BackendPlan` of a run; names the culprit of a backend that cannot
+    serve the scene."""
+    from .errors import SceneError
+    if backend not in BACKENDS:
+        raise SceneError(f"backend {backend!r}: use one of {', '.join(BACKENDS)}")
+    plan = BackendPlan(compiled, method, backend)
+    if (backend == "compiled" or method in KERNEL_ONLY) and not plan.load():
+        from .numba_model import available
+        why = ("numba is not installed (pip install numba)" if not available() else
+               f"the scene's equations ({compiled.dof} coordinates) have no compiled form")
+        raise SceneError(f"backend {backend!r} with method {method!r}: {why}; use "
+                         "backend='scipy'")
+    return plan
+
+
+class BackendPlan:
+    """Where a run's segments integrate: scipy's solvers or the compiled kernels.
+
+    ``backend="scipy"`` never compiles; ``"compiled"`` compiles (or loads) the scene at
+    once; ``"auto"`` starts on scipy unless the compiled form is in memory already, and
+    moves to the kernels when a run proves long (the driver measures it) or when a stiff
+    segment must meet a tolerance below ``STIFF_RTOL_FLOOR`` (the kernels' Rodas5P has no
+    floor). Segments with stuck friction elements or closed loops run on scipy.
+    """
+
+    def __init__(self, compiled, method, option):
+        from .numba_model import is_loaded, numba_functions
+        self.c, self.named, self.option = compiled, method, option
+        self.functions = None
+        self.why = ""
+        if option == "auto" and is_loaded(compiled):
+            self.functions = numba_functions(compiled)
+
+    @property
+    def active(self) -> bool:
+        return self.functions is not None and self.option != "scipy"
+
+    def load(self) -> bool:
+        """Compile or load the scene for the kernels; True when it has a compiled form."""
+        if self.option == "scipy":
+            return False
+        if self.functions is None:
+            from .numba_model import numba_functions
+            self.functions = numba_functions(self.c)
+        return self.functions is not None
+
+    def compilable(self, mode) -> bool:
+        return not mode.groups and not self.c.constraints
+
+    def method(self, name, mode) -> str:
+        """The method a segment runs for a requested one: the kernels' own where they
+        are in use, scipy's where not."""
+        compiled = self.active and self.compilable(mode)
+        if self.named == "auto" and compiled:
+            return "Rodas5P" if name in (STIFF, "Rodas5P") else \
+                "DOP853" if name in ("DOP853", "RK45") else name
+        if name == "Rodas5P" and not compiled:
+            return STIFF
+        return name
+
+    def backend(self, method, mode) -> str:
+        return "compiled" if (self.active and method in _KERNEL and self.compilable(mode)) \
+            else "scipy"
+
+    def can_switch(self, method, mode) -> bool:
+        """Whether ``"auto"`` may still move this segment to the kernels."""
+        return self.option == "auto" and not self.active and method in ("DOP853", "RK45",
+                                                                          STIFF) \
+            and self.compilable(mode)
+
+    def stiff(self, method) -> bool:
+        return method in (STIFF, "BDF", "LSODA", "Rodas5P")
+
+    def choose(self, p, mode, t, y, scene) -> str:
+        """The method of a segment starting at ``(t, y)`` (sets ``why``)."""
+        if self.named != "auto":
+            self.why = "named in the scene"
+            return self.method(self.named, mode)
+        name, self.why = choose_method(self.c, p, y, t, scene.time_limit, scene.rtol)
+        if name == STIFF and scene.rtol < STIFF_RTOL_FLOOR and self.option == "auto" \
+                and self.compilable(mode) and not self.active:
+            self.load()                       # Rodas5P meets the tolerance, Radau cannot
+        return self.method(name, mode)

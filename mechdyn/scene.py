@@ -93,7 +93,10 @@ class Scene:
         Springs made rigid: ``stretch = 0`` eliminates a coordinate (a dict maps a
         spring name to the coordinate to eliminate).
     method : str
-        ``"auto"`` or a ``solve_ivp`` method name.
+        ``"auto"``, a ``solve_ivp`` method name, or ``"Rodas5P"`` (compiled kernels).
+    backend : str
+        ``"auto"`` (scipy for short runs, the compiled kernels once a run proves long),
+        ``"scipy"`` or ``"compiled"`` (numba).
     rtol, atol : float
         Tolerances (``atol`` may be a dict per state, with an optional ``"default"``):
         finite, ``atol > 0``, ``MIN_RTOL <= rtol < 1`` (``MIN_RTOL = 100 eps``, about
@@ -121,6 +124,7 @@ class Scene:
     t_start: float = 0.0
     max_steps: int | None = DEFAULT_MAX_STEPS
     max_wall_time: float | None = None
+    backend: str = "auto"
 
     def __post_init__(self):
         if self.effects is not None:
@@ -171,6 +175,9 @@ class Scene:
         else:
             atol = self._number("atol", self.atol, positive=True)
         object.__setattr__(self, "atol", atol)
+        if self.backend not in ("auto", "scipy", "compiled"):
+            raise SceneError(f"scene {self.name!r}: backend {self.backend!r}: use 'auto', "
+                             "'scipy' or 'compiled'")
         for name in ("max_steps", "max_wall_time"):
             value = getattr(self, name)
             if value is not None:

@@ -32,7 +32,7 @@ import sympy as sp
 from .compile import compile_scene
 from .driver import Budget, Driver
 from .errors import SceneError
-from .methods import choose_method
+from .methods import KERNEL_ONLY, choose_method
 from .parameters import ParameterSet
 from .result import Result
 from .scene import DEFAULT_ATOL, Scene
@@ -42,11 +42,11 @@ __all__ = ["simulate", "initial_state", "choose_method", "METHODS"]
 
 
 def simulate(mechanism, scene: Scene, params: dict, *, progress=None, max_steps=None,
-             max_wall_time=None) -> Result:
+             max_wall_time=None, backend=None) -> Result:
     """Integrate ``scene`` on ``mechanism`` with parameter values ``params``.
 
     ``progress(t, t_end)`` is called about every quarter second of a run;
-    ``max_steps`` and ``max_wall_time`` override the scene's budget. Raises
+    ``max_steps``, ``max_wall_time`` and ``backend`` override the scene's. Raises
     :class:`SimulationError` (with ``.partial``, the result up to the failure) when the
     integration fails on every method it may use, or exceeds its budget.
     """
@@ -57,12 +57,12 @@ def simulate(mechanism, scene: Scene, params: dict, *, progress=None, max_steps=
     base = values.vector(compiled.param_names)
     y0 = initial_state(compiled, mechanism, scene, values.numbers)
     atol = _atol_vector(compiled, mechanism, scene)
-    if scene.method != "auto" and scene.method not in METHODS:
+    if scene.method != "auto" and scene.method not in (*METHODS, *KERNEL_ONLY):
         raise SceneError(f"scene {scene.name!r}: unknown method {scene.method!r}; "
-                         f"use 'auto' or one of {', '.join(METHODS)}")
+                         f"use 'auto' or one of {', '.join((*METHODS, *KERNEL_ONLY))}")
     budget = Budget(scene.max_steps if max_steps is None else max_steps,
                     scene.max_wall_time if max_wall_time is None else max_wall_time)
-    driver = Driver(compiled, base, scene, scene.method, atol, mechanism, budget, progress)
+    driver = Driver(compiled, base, scene, atol, mechanism, budget, progress, backend)
     return driver.run(y0)
 
 

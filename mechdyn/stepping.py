@@ -77,6 +77,15 @@ class ScipySegment:
         if watch is not None:
             watch.start(t0, np.array(y0, dtype=float))
 
+    def hold_switching(self):
+        """Keep the method whatever the stiffness monitor says; returns the function that
+        lets it act again."""
+        monitor, self.monitor = self.monitor, None
+
+        def release():
+            self.monitor = monitor
+        return release
+
     @property
     def h(self) -> float:
         """The size of the last step taken (the next segment's first step)."""

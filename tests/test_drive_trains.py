@@ -240,7 +240,7 @@ def test_stiff_coupling_runs_implicit_and_matches_the_rigid_drive():
     elastic = md.Scene("stiff", initial=at_rest(phi_1, phi_2), t_end=1.0, max_steps=20_000)
     rigid = md.Scene("stiff rigid", rigid=["shaft"], initial=at_rest(phi_1), t_end=1.0)
     res = drive.mechanism.simulate(elastic, params)
-    assert res.stats["method"].split("+")[0] in ("Radau", "BDF", "LSODA")
+    assert res.stats["method"].split("+")[0] in ("Radau", "BDF", "LSODA", "Rodas5P")
     ref = drive.mechanism.simulate(rigid, params)
     times = np.linspace(0, 1, 201)
     by_hand = M * times**2 / (2 * (1.0 + 1e-4))              # uniformly accelerated

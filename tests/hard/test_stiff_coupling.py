@@ -35,7 +35,7 @@ def test_auto_takes_the_stiff_method_for_damped_fast_modes_and_matches_the_rigid
     drive = coupled(damped=True)
     scene = md.Scene("start", initial=START, t_end=1.0, max_steps=20_000)
     res = drive.simulate(scene, {k: 1e6, c: 2.0})
-    assert res.stats["method"].startswith("Radau") and res.stats["njev"] >= 1
+    assert res.stats["method"].split("+")[0] in ("Radau", "Rodas5P") and res.stats["njev"] >= 1
     assert res.final(phi1) == pytest.approx(RIGID_ANGLE, rel=1e-6)
     assert res.final(phi2) == pytest.approx(RIGID_ANGLE, rel=1e-6)
     rigid = drive.simulate(md.Scene("rigid", initial=START, t_end=1.0, rigid=["coupling"]),
@@ -50,7 +50,7 @@ def test_undamped_coupling_at_a_tolerance_above_its_oscillation_is_stepped_over(
     scene = md.Scene("start", initial=START, t_end=1.0, rtol=1e-6, atol=1e-6,
                      max_steps=20_000)
     res = coupled(damped=False).simulate(scene, {k: 1e6})
-    assert res.stats["method"].startswith("Radau")
+    assert res.stats["method"].split("+")[0] in ("Radau", "Rodas5P")
     assert res.final(phi1) == pytest.approx(RIGID_ANGLE, rel=1e-6)
     assert res.final(phi2) == pytest.approx(RIGID_ANGLE, rel=1e-6)
 
