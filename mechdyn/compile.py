@@ -235,7 +235,18 @@ _GENERATOR = _generator_hash()
 
 
 def declaration_key(mechanism, scene) -> str:
-    """A hash of everything the compiled code depends on."""
+    """A hash of everything the compiled code depends on (remembered for a scene until
+    the mechanism changes)."""
+    memo = getattr(mechanism, "_memo", {})
+    hit = memo.get(("key", id(scene)))
+    if hit is not None and hit[0] is scene:
+        return hit[1]
+    key = _declaration_key(mechanism, scene)
+    memo[("key", id(scene))] = (scene, key)
+    return key
+
+
+def _declaration_key(mechanism, scene) -> str:
     names, rigid = selection(mechanism, scene)
     parts = [__version__, _GENERATOR, [q.func.__name__ for q in mechanism.coordinates],
              sorted(mechanism.parameter_units.items())]   # units: checked when derived

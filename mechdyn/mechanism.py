@@ -82,6 +82,7 @@ class Mechanism:
         self.elements: dict[str, Element] = {}
         self._speeds = {sp.Derivative(q, t) for q in self.coordinates}
         self._derived = {}
+        self._memo = {}                 # per scene: cache key, output units
         self._independent = None
         if independent is not None:
             chosen = [independent] if is_coordinate(independent) else list(independent)
@@ -117,6 +118,7 @@ class Mechanism:
                     f"mechanism {self.name!r}: units given for {key}, which is neither one "
                     f"of its coordinates {_names(self.coordinates)} nor a parameter symbol")
         self._derived.clear()
+        self._memo.clear()
         self._dimensions_checked = False
 
     # ----------------------------------------------------------------- declaring
@@ -137,6 +139,7 @@ class Mechanism:
         self._check_link_names(element)
         self.elements[element.name] = element
         self._derived.clear()
+        self._memo.clear()
         self._dimensions_checked = False
         return element
 
@@ -367,8 +370,12 @@ class Mechanism:
         return linearize(self, scene, at, params, inputs, outputs)
 
     def _label_units(self, result, scene):
-        from .display import output_units
-        result.units.update({label: unit for label, unit in output_units(self, scene).items()
+        hit = self._memo.get(("units", id(scene)))
+        if hit is None or hit[0] is not scene:
+            from .display import output_units
+            hit = (scene, output_units(self, scene))
+            self._memo[("units", id(scene))] = hit
+        result.units.update({label: unit for label, unit in hit[1].items()
                              if label not in result.units})
         return result
 
@@ -389,8 +396,8 @@ class Mechanism:
         return mechanism_html(self)
 
     def __getstate__(self):
-        """Pickled (e.g. for sweep workers) without the cache of derived equations."""
-        return {**self.__dict__, "_derived": {}}
+        """Pickled (e.g. for sweep workers) without the caches of derived equations."""
+        return {**self.__dict__, "_derived": {}, "_memo": {}}
 
 
 def _names(coordinates):

@@ -29,56 +29,69 @@ class Segment:
     """The steps of one friction mode integrated by one method.
 
     ``mode`` is the friction mode (signs per friction element); ``method`` the solver's
-    name. Steps are appended with :meth:`add` (one) or :meth:`extend` (arrays of many).
+    name. Steps are appended with :meth:`add` (one) or :meth:`extend` (arrays of many,
+    kept as they come: a compiled chunk costs no Python loop).
     """
 
     def __init__(self, t0, y0, mode, method):
         self.mode, self.method = mode, method
-        self._t, self._y, self._c = [float(t0)], [np.asarray(y0, dtype=float)], []
+        y0 = np.asarray(y0, dtype=float)
+        self._chunks = [(np.array([float(t0)]), y0[None, :].copy(), np.zeros((0, 1, len(y0))))]
+        self._t_end, self._y_end, self._steps = float(t0), y0, 0
         self._frozen = None
 
     def add(self, t, y, coefficients):
         """Append one step ending at ``(t, y)`` with its polynomial coefficients
         (``(degree + 1, states)``, in ``x = (t - t_start) / h``)."""
-        if t == self._t[-1]:
+        if t == self._t_end:
             return
-        self._t.append(float(t))
-        self._y.append(np.asarray(y, dtype=float))
-        self._c.append(np.asarray(coefficients, dtype=float))
+        y = np.asarray(y, dtype=float)
+        self._chunks.append((np.array([float(t)]), y[None, :],
+                             np.asarray(coefficients, dtype=float)[None]))
+        self._t_end, self._y_end, self._steps = float(t), y, self._steps + 1
         self._frozen = None
 
     def extend(self, times, states, coefficients):
         """Append many steps at once: ``times (k,)``, ``states (k, m)``, coefficients
         ``(k, degree + 1, m)``."""
-        for t, y, c in zip(times, states, coefficients):
-            self.add(t, y, c)
+        if not len(times):
+            return
+        self._chunks.append((np.asarray(times, dtype=float), np.asarray(states, dtype=float),
+                             np.asarray(coefficients, dtype=float)))
+        self._t_end, self._y_end = float(times[-1]), np.asarray(states[-1], dtype=float)
+        self._steps += len(times)
+        self._frozen = None
 
     @property
     def t_start(self):
-        return self._t[0]
+        return float(self._chunks[0][0][0])
 
     @property
     def t_end(self):
-        return self._t[-1]
+        return self._t_end
 
     @property
     def y_end(self):
-        return self._y[-1]
+        return self._y_end
 
     def __len__(self):
         """The number of steps."""
-        return len(self._c)
+        return self._steps
 
     def arrays(self):
         """``(t, y, c)``: step times ``(k + 1,)``, states ``(k + 1, m)`` and coefficients
         ``(k, d + 1, m)`` padded with zeros to the largest degree."""
         if self._frozen is None:
-            m = len(self._y[0])
-            degree = max((len(c) for c in self._c), default=1)
-            coefficients = np.zeros((len(self._c), degree, m))
-            for k, c in enumerate(self._c):
-                coefficients[k, :len(c)] = c
-            self._frozen = (np.array(self._t), np.array(self._y), coefficients)
+            degree = max(c.shape[1] for _, _, c in self._chunks)
+            m = self._chunks[0][1].shape[1]
+            coefficients = np.zeros((self._steps, degree, m))
+            row = 0
+            for _, _, c in self._chunks:
+                coefficients[row:row + len(c), :c.shape[1]] = c
+                row += len(c)
+            self._frozen = (np.concatenate([t for t, _, _ in self._chunks]),
+                            np.concatenate([y for _, y, _ in self._chunks]), coefficients)
+            self._chunks = [self._frozen]
         return self._frozen
 
 
