@@ -4,32 +4,31 @@ Declare a mechanism (links and loads as sympy expressions of generalized coordin
 derive Lagrange's equations and the reduced quantities, print them as LaTeX, compile and
 simulate scenes.
 
-The declaring API loads with the package; the later stages (closed forms, modal and
-periodic analysis, accuracy reports, sweeps) load on first use, so ``import mechdyn``
-costs little more than ``import sympy``.
+Every public name loads on first use (the declaring API with sympy, the later stages
+when asked for), so a run that needs no sympy (the command line's warm start) never
+imports it.
 """
 __version__ = "0.1.0"
 
 from importlib import import_module
 
-from . import motors
-from .elements import Damper, Friction, Gravity, Link, Load, Spring
 from .errors import (DeclarationError, DerivationError, MechdynError, MechdynWarning,
                      ParameterError, SceneError, SimulationError)
-from .mechanism import Mechanism
-from .model_file import Model, load_model
-from .scene import Scene, reaches, stopped
-from .symbols import acceleration, coordinate, coordinates, plain, speed, t
 
 # Public names loaded on first use: name -> module.
 _LAZY = {
+    **dict.fromkeys(["Damper", "Friction", "Gravity", "Link", "Load", "Spring"], "elements"),
+    "Mechanism": "mechanism", "Model": "model_file", "load_model": "model_file",
+    "Scene": "scene", "reaches": "scene", "stopped": "scene",
+    **dict.fromkeys(["acceleration", "coordinate", "coordinates", "plain", "speed", "t"],
+                    "symbols"),
     "classify": "analytic", "closed_form": "analytic", "driving_moment": "analytic",
     "uniform_rotation": "analytic", "uniform_acceleration": "analytic",
     "Classification": "analytic", "Solution": "analytic", "StopPoint": "analytic",
     "Motion": "analytic", "DrivingMoment": "analytic", "AnalyticError": "analytic",
     "natural_frequencies": "modal", "Modes": "modal",
     "linearize": "linear", "StateSpace": "linear",
-    "Result": "result", "Event": "result",
+    "Result": "result", "Event": "events",
     "sweep": "sweeps", "Sweep": "sweeps",
     **dict.fromkeys(["periodic_steady_state", "floquet", "forcing_period", "Floquet",
                      "PeriodicSolution", "PeriodicError", "NoPeriodicSolutionError"],
@@ -45,7 +44,7 @@ _LAZY = {
                      "KinetostaticsError"], "joint_reactions"),
     **dict.fromkeys(["balance", "Balance", "Counterweight"], "balancing"),
 }
-_LAZY_MODULES = {"reduction", "units"}
+_LAZY_MODULES = {"reduction", "units", "motors"}
 
 __all__ = [
     "motors", "Mechanism", "Link", "Load", "Spring", "Damper", "Gravity", "Friction",

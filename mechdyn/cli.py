@@ -7,6 +7,7 @@
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 import os
 import sys
 import traceback
@@ -72,14 +73,25 @@ def _params(model, scene, assignments):
 
 
 def _simulate(args):
-    model, scene, params = _scene_inputs(args)
-    try:
-        result = model.mechanism.simulate(scene, params)
-    except SimulationError as error:
-        if error.partial is not None and args.csv:
-            error.partial.to_csv(args.csv)
-            print(f"partial result up to the failure written to {args.csv}", file=sys.stderr)
-        raise
+    from . import warm
+    name = warm.entry_name(args.model, args.scene, args.param)
+    result = warm.recall(name)          # the same command before: no model file, no sympy
+    if result is None:
+        before = set(sys.modules)
+        model, scene, params = _scene_inputs(args)
+        try:
+            result = model.mechanism.simulate(scene, params)
+        except SimulationError as error:
+            if error.partial is not None and args.csv:
+                error.partial.to_csv(args.csv)
+                print(f"partial result up to the failure written to {args.csv}",
+                      file=sys.stderr)
+            raise
+        if name is not None:
+            from .simulate import atol_vector
+            warm.remember(name, model, scene, result,
+                          atol_vector(result.compiled, model.mechanism, scene),
+                          warm.local_modules(before, Path(args.model).parent))
     print(result.summary(units=args.units))
     if args.csv:
         result.to_csv(args.csv, sample=args.sample, units=args.units)
@@ -149,7 +161,7 @@ def _precision(args):
 
 
 def _add_precision_command(commands):
-    from .precision import DEFAULT_METHODS, DEFAULT_RTOLS
+    from .methods import COMPARED as DEFAULT_METHODS, COMPARED_RTOLS as DEFAULT_RTOLS
 
     def positive(text):
         value = float(text)
@@ -370,7 +382,7 @@ def _dask_client(address):
 
 
 def _add_sweep_command(commands):
-    from .sweeps import MAX_POINTS
+    from .sweep_file import MAX_POINTS
     sweep = commands.add_parser(
         "sweep", help="simulate a scene over a grid of parameter values",
         description="Simulate a scene at every point of a parameter grid (all combinations "

@@ -18,10 +18,10 @@ numba. The generated text is mechdyn's own (never user text); it is compiled wit
 """
 from __future__ import annotations
 
-import math
-
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
+
+from .generated import compile_source
 
 __all__ = ["function_source", "compile_source", "safe_symbols", "printed", "list_function"]
 
@@ -81,15 +81,6 @@ def function_source(name, states, parameters, expressions, body, doc="", lines=(
     if len(text) == 1 + bool(doc):
         text.append("    pass")
     return "\n".join(text) + "\n"
-
-
-def compile_source(source: str, extra=None) -> dict:
-    """Execute generated source in a namespace holding the math module's names
-    (``pow`` is ``math.pow``: a domain error where a power has no real value)."""
-    namespace = {name: getattr(math, name) for name in dir(math) if not name.startswith("_")}
-    namespace.update(extra or {})
-    exec(compile(source, "<mechdyn generated>", "exec"), namespace)
-    return namespace
 
 
 def list_function(name, states, parameters, expressions):

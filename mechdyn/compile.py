@@ -27,16 +27,13 @@ same model skips derivation and compilation.
 from __future__ import annotations
 
 import hashlib
-import math
 from pathlib import Path
 
-import numpy as np
 import sympy as sp
 
 from . import __version__, cache
-from .codegen import compile_source
-from .errors import SimulationError
 from .generate import generate
+from .generated import CompiledScene, SingularMassError
 from .scene import selection
 
 __all__ = ["CompiledScene", "compile_scene", "SingularMassError"]
@@ -44,189 +41,13 @@ __all__ = ["CompiledScene", "compile_scene", "SingularMassError"]
 _memory_cache: dict = {}
 
 
-class SingularMassError(SimulationError):
-    """The mass matrix (reduced inertia) is not positive definite at a state."""
-
-    def __init__(self, coordinate, t_value, state):
-        self.coordinate, self.time, self.state = coordinate, t_value, list(state)
-        super().__init__(f"the mass matrix is singular or not positive definite in "
-                         f"coordinate {coordinate} at t = {t_value:.6g} s (the reduced inertia "
-                         "vanishes there, e.g. a dead centre of the driving coordinate)")
-
-
-class CompiledScene:
-    """The generated functions of one scene and the names that give them meaning.
-
-    Attributes: ``coordinates`` (names), ``state_names``, ``param_names`` (user
-    parameters, sorted), ``frictions`` (names), ``frozen`` (per friction: index of the
-    coordinate it fixes when stuck, or -1), ``stop_labels``, ``output_labels``,
-    ``event_kinds`` (``("stop" | "rate" | "switch", label)`` per entry of ``events``),
-    ``meta``, ``source`` (the generated code), ``key`` (the cache key), ``raw`` (the
-    generated functions by name, each ``f(t, y, p, out)``).
-    """
-
-    def __init__(self, meta: dict, source: str, key: str = ""):
-        self.meta, self.source, self.key = meta, source, key
-        self.coordinates = meta["coordinates"]
-        self.dof = len(self.coordinates)
-        self.state_names = meta["state_names"]
-        self.param_names = meta["param_names"]
-        self.frictions = meta["frictions"]
-        self.frozen = meta["frozen"]
-        self.stop_labels = meta["stop_labels"]
-        self.output_labels = meta["output_labels"]
-        self.event_kinds = [tuple(kind) for kind in meta["events"]]
-        self.flags = sum(1 for kind, _ in self.event_kinds if kind == "switch")
-        self.layout = {name: (offset, tuple(shape)) for name, offset, shape in meta["terms"]}
-        self._sizes = {"terms": sum(int(np.prod(shape)) for _, shape in self.layout.values()),
-                       "events": len(self.event_kinds), "outputs": len(self.output_labels)}
-        from . import loop_code
-        self.raw = compile_source(source, {"spd_solve": _spd_solve,
-                                           "jac_assemble": _jac_assemble,
-                                           "numeric_jacobian": loop_code.numeric_jacobian,
-                                           "numeric_minors": loop_code.numeric_minors,
-                                           "loop_solve": loop_code.loop_solve})
-        # Closed loops (empty without): constraint labels, the independent coordinates,
-        # outputs that are loop multipliers; loop functions in loop_code's docstring.
-        self.constraints = meta.get("constraints", [])
-        self.independent = meta.get("independent", list(range(self.dof)))
-        self.multiplier_outputs = meta.get("multiplier_outputs", {})
-        n, m = self.dof, len(self.constraints)
-        self._sizes.update({"multipliers": m, "closure": 3 * m + m * n, "drift": 2,
-                            "loop_minors": math.comb(n, m) if m else 0,
-                            "linear_terms": 3 * n * n})
-
-    # -------------------------------------------------------- Python-level calls
-    def rhs(self, t_value, y, p) -> list:
-        """``dy/dt`` at a state (list of floats); ``p`` from :meth:`parameter_vector`."""
-        out = [0.0] * (2 * self.dof)
-        self.raw["rhs"](t_value, _floats(y), p, out)
-        return out
-
-    def jac(self, t_value, y, p) -> np.ndarray:
-        """Analytic Jacobian d(dy/dt)/dy of :meth:`rhs` (a ``2n x 2n`` array)."""
-        out = np.zeros((2 * self.dof, 2 * self.dof))
-        self.raw["jac"](t_value, _floats(y), p, out)
-        return out
-
-    def terms(self, t_value, y, p) -> dict:
-        """The friction modes' pieces by name: ``mass`` (n x n), ``forcing``,
-        ``friction_gradient`` (k x n), ``friction_bias``, ``friction_magnitude``,
-        ``friction_rate``."""
-        flat = self._call("terms", t_value, y, p)
-        out = {}
-        for name, (offset, shape) in self.layout.items():
-            size = int(np.prod(shape))
-            out[name] = np.array(flat[offset:offset + size]).reshape(shape)
-        n = self.dof
-        mass = np.zeros((n, n))
-        mass[np.tril_indices(n)] = out["mass"]
-        out["mass"] = mass + np.tril(mass, -1).T
-        return out
-
-    def events(self, t_value, y, p) -> list:
-        """Values of the event functions (stops, friction rates, switching functions)."""
-        return self._call("events", t_value, y, p)
-
-    def outputs(self, t_value, y, p) -> list:
-        """Values of the requested outputs."""
-        return self._call("outputs", t_value, y, p)
-
-    def multipliers(self, t_value, y, p) -> list:
-        """Closed loops: the constraint forces ``lambda`` (``M a = f + G' lambda``)."""
-        return self._call("multipliers", t_value, y, p)
-
-    def closure(self, t_value, y, p) -> list:
-        """Closed loops: ``[g..., G row by row..., dg/dt..., bias...]``."""
-        return self._call("closure", t_value, y, p)
-
-    def drift(self, t_value, y, p) -> list:
-        """Closed loops: ``[max |g|, max |G u + dg/dt|]``."""
-        return self._call("drift", t_value, y, p)
-
-    def loop_minors(self, t_value, y, p) -> list:
-        """Closed loops: every ``m x m`` minor of ``G``."""
-        return self._call("loop_minors", t_value, y, p)
-
-    def linear_terms(self, t_value, y, p) -> list:
-        """``[M, df/dq, df/du]``, each ``n x n`` row by row."""
-        return self._call("linear_terms", t_value, y, p)
-
-    def energy(self, t_value, y, p) -> list:
-        """Kinetic and potential energy ``[T, V]``."""
-        out = [0.0, 0.0]
-        self.raw["energy"](t_value, _floats(y), p, out)
-        return out
-
-    def _call(self, name, t_value, y, p) -> list:
-        out = [0.0] * self._sizes[name]
-        self.raw[name](t_value, _floats(y), p, out)
-        return out
-
-    # ---------------------------------------------------------------- parameters
-    def parameter_vector(self, params, signs=None) -> list:
-        """``p`` from parameter values (a dict by symbol or name, or a checked
-        :class:`~mechdyn.parameters.ParameterSet`), with the friction ``signs``
-        (default 0) and every branch unlocked."""
-        from .parameters import ParameterSet
-        values = params if isinstance(params, ParameterSet) else ParameterSet(params)
-        signs = [0.0] * len(self.frictions) if signs is None else list(signs)
-        return values.vector(self.param_names) + signs + [0.0] * self.flags
-
-    def __getstate__(self):
-        """Pickled as its metadata and source (sweep workers, results), compiled again
-        when unpickled."""
-        return {"meta": self.meta, "source": self.source, "key": self.key}
-
-    def __setstate__(self, state):
-        self.__init__(state["meta"], state["source"], state["key"])
-
-    def __repr__(self):
-        return (f"CompiledScene(states {self.state_names}, parameters {self.param_names}, "
-                f"frictions {self.frictions})")
-
-
-def _floats(y):
-    """The state as a list of Python floats (2-3x faster arithmetic than numpy scalars)."""
-    return y.tolist() if type(y) is np.ndarray else y
-
-
-def _spd_solve(mass, forcing, n, out, offset):
-    """``out[offset:offset + n] = M^-1 f`` for large mass matrices (NaN if singular)."""
-    try:
-        a = np.linalg.solve(np.reshape(mass, (n, n)), forcing)
-    except np.linalg.LinAlgError:
-        a = np.full(n, np.nan)
-    for i in range(n):
-        out[offset + i] = float(a[i])
-
-
-def _jac_assemble(flat, n, out):
-    """The Jacobian of a large system from ``M``, ``f``, ``dM/dq_k`` and ``df/d(q, u)``."""
-    flat = np.asarray(flat, dtype=float)
-    mass = flat[:n * n].reshape(n, n)
-    forcing = flat[n * n:n * n + n]
-    offset = n * n + n
-    mass_derivatives = flat[offset:offset + n ** 3].reshape(n, n, n)
-    derivatives = flat[offset + n ** 3:].reshape(2 * n, n)      # [variable, equation]
-    try:
-        acceleration = np.linalg.solve(mass, forcing)
-        a_q = derivatives[:n].T - np.einsum("kij,j->ik", mass_derivatives, acceleration)
-        blocks = np.linalg.solve(mass, np.hstack([a_q, derivatives[n:].T]))
-    except np.linalg.LinAlgError:
-        blocks = np.full((n, 2 * n), np.nan)
-    out[:, :] = 0.0
-    out[:n, n:] = np.eye(n)
-    out[n:, :] = blocks
-
-
 # ------------------------------------------------------------------------- caching
 def _generator_hash() -> str:
     """A hash of the modules that shape generated code, so editing them voids the cache."""
     here = Path(__file__).parent
     digest = hashlib.sha256()
-    for module in ("derive.py", "codegen.py", "generate.py", "compile.py", "elements.py",
-                   "symbols.py", "loop_code.py"):
+    for module in ("derive.py", "codegen.py", "generate.py", "generated.py", "compile.py",
+                   "elements.py", "symbols.py", "loop_code.py"):
         digest.update((here / module).read_bytes())
     return digest.hexdigest()[:16]
 

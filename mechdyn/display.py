@@ -16,7 +16,6 @@ dimension. :class:`Display` picks other units to show: by kind (``speed=rpm``,
 from __future__ import annotations
 
 import numpy as np
-import sympy as sp
 
 from .errors import MechdynError
 
@@ -79,15 +78,14 @@ class Display:
 
 def column_units(result) -> dict:
     """The SI unit of every column of ``result.columns()`` (``""`` where unknown)."""
-    from .symbols import dotted_symbol
     units = {"t": "s"}
     for c in result.coordinates:
         units[c] = result.units.get(c, "rad")
     n = len(result.coordinates)
     for i, c in enumerate(result.coordinates):
         units[result.state_names[n + i]] = _per(units[c], "s")
-    for c in result.coordinates:
-        units[str(dotted_symbol(c, 2))] = _per(units[c], "s^2")
+    for c, name in zip(result.coordinates, result.acceleration_names):
+        units[name] = _per(units[c], "s^2")
     for label in result.compiled.output_labels:
         units[label] = result.units.get(label, "W" if label.startswith("power:") else "")
     return units
@@ -99,6 +97,7 @@ def _per(unit, time):
 
 def output_units(mechanism, scene) -> dict:
     """The SI unit of each of a scene's outputs, by label (see the module)."""
+    import sympy as sp
     from .dimensions import ENERGY, Misfit, MissingUnit, _plain, dimension_of, \
         known_dimensions
     from .elements import Damper, Friction, Load, Spring

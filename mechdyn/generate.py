@@ -110,6 +110,7 @@ def generate(eqs, scene, elements) -> tuple:
     meta = {
         "coordinates": coordinates,
         "state_names": state_names,
+        "acceleration_names": [str(a) for a in eqs.a],
         "param_names": [s.name for s in params],
         "frictions": [fr.name for fr in frictions],
         "frozen": [_frozen_index(fr) for fr in frictions],

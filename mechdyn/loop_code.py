@@ -36,30 +36,12 @@ import math
 import numpy as np
 import sympy as sp
 
-from .errors import SimulationError
+from .loop_numeric import (LOOP_MARGIN, PIVOT_FLOOR, LoopSingularError, loop_solve,
+                           numeric_jacobian, numeric_minors)
 from .symbols import t
 
 __all__ = ["LoopSingularError", "loop_sources", "numeric_jacobian", "numeric_minors",
            "loop_solve", "LOOP_MARGIN"]
-
-# Smallest pivot of S, relative to its diagonal, the generated rhs accepts (below it the
-# loops have lost rank numerically). Where a watched minor changes sign the driver calls
-# the loops singular if every minor is below LOOP_MARGIN times its size at the start.
-_PIVOT_FLOOR = 1e-14
-LOOP_MARGIN = 1e-6
-
-
-class LoopSingularError(SimulationError):
-    """The loop constraints lost rank (a change point or a locked toggle): the motion of
-    the linkage is not determined there. ``loop``: the constraint that became dependent
-    on the others; ``time``, ``state``."""
-
-    def __init__(self, loop, t_value, state, detail=""):
-        self.loop, self.time, self.state = loop, t_value, list(state)
-        super().__init__(f"loop {loop} is singular at t = {t_value:.6g} s{detail}: its "
-                         "constraints lose rank there (a change point or toggle position "
-                         "where the linkage can move more than one way)")
-
 
 def loop_sources(eqs, mass, forcing, rename, source, states) -> dict:
     """Sources of ``rhs``, ``jac``, ``multipliers``, ``closure``, ``drift``,
@@ -114,13 +96,6 @@ def _minors_source(source, grads):
     return source("loop_minors", minors, [f"out[{k}] = {{{k}}}" for k in range(len(minors))])
 
 
-def numeric_minors(flat, m, n, out):
-    """Every m x m minor of the m x n matrix ``flat``, into ``out``."""
-    matrix = np.reshape(flat, (m, n))
-    for k, columns in enumerate(itertools.combinations(range(n), m)):
-        out[k] = float(np.linalg.det(matrix[:, list(columns)]))
-
-
 def _factor_lines(n, m, lower, g, f, b):
     """Scalar lines computing ``a`` (and ``nu``, ``w``, pivot ratios ``r``) from the names
     of the mass matrix's lower entries, the forcing, the gradients and the biases. Where
@@ -160,7 +135,7 @@ def _factor_lines(n, m, lower, g, f, b):
         acc = " - ".join([f"S{k}_{k}"] + [f"K{k}_{j} * K{k}_{j}" for j in range(k)])
         lines.append(f"P{k} = {acc}")
         lines.append(f"r{k} = P{k} / S{k}_{k} if S{k}_{k} > 0 else 0.0")
-        lines.append(f"K{k}_{k} = sqrt(P{k}) if r{k} > {_PIVOT_FLOOR!r} else nan")
+        lines.append(f"K{k}_{k} = sqrt(P{k}) if r{k} > {PIVOT_FLOOR!r} else nan")
     for k in range(m):
         acc = " - ".join([f"s{k}"] + [f"K{k}_{j} * v{j}" for j in range(k)])
         lines.append(f"v{k} = ({acc}) / K{k}_{k}")
@@ -205,45 +180,3 @@ def _numpy_sources(source, mass, forcing, grads, bias, n, m, speeds):
     call = "loop_solve([" + "{}, " * len(exprs) + f"], {n}, {m}, out, "
     return {"rhs": source("rhs", exprs, speeds + [call + f"{n}, 0)"]),
             "multipliers": source("multipliers", exprs, [call + "0, 1)"])}
-
-
-def loop_solve(flat, n, m, out, offset, which):
-    """``a`` (``which`` 0) or ``lambda`` (1) from the flattened ``M``, ``f``, ``G``,
-    ``bias`` (numpy), into ``out[offset:]``; NaN where the loops lose rank."""
-    flat = np.asarray(flat, dtype=float)
-    mass = flat[:n * n].reshape(n, n)
-    forcing = flat[n * n:n * n + n]
-    grads = flat[n * n + n:n * n + n + m * n].reshape(m, n)
-    bias = flat[n * n + n + m * n:]
-    w = np.trace(mass) / np.sum(grads * grads)
-    augmented = mass + w * grads.T @ grads
-    try:
-        z = np.linalg.solve(augmented, forcing)
-        y_cols = np.linalg.solve(augmented, grads.T)
-        schur = grads @ y_cols
-        factor = np.linalg.cholesky(schur)
-        ratios = np.diag(factor) ** 2 / np.diag(schur)
-        if not np.min(ratios) > _PIVOT_FLOOR:
-            raise np.linalg.LinAlgError
-        nu = np.linalg.solve(schur, -bias - grads @ z)
-        result = z + y_cols @ nu if which == 0 else nu + w * bias
-    except np.linalg.LinAlgError:
-        result = np.full(n if which == 0 else m, np.nan)
-    for i, value in enumerate(result):
-        out[offset + i] = float(value)
-
-
-def numeric_jacobian(rhs, t_value, y, p, out):
-    """Central differences of a generated ``rhs(t, y, p, out)`` into ``out``
-    (constrained systems have no analytic Jacobian)."""
-    y = np.asarray(y, dtype=float)
-    size = len(y)
-    up_values, down_values = [0.0] * size, [0.0] * size
-    for j in range(size):
-        h = 1e-7 * max(1.0, abs(y[j]))
-        up, down = y.copy(), y.copy()
-        up[j] += h
-        down[j] -= h
-        rhs(t_value, up.tolist(), p, up_values)
-        rhs(t_value, down.tolist(), p, down_values)
-        out[:, j] = (np.asarray(up_values) - np.asarray(down_values)) / (2 * h)

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .loop_code import LOOP_MARGIN, LoopSingularError
+from .loop_numeric import LOOP_MARGIN, LoopSingularError
 
 __all__ = ["LoopWatch"]
 

@@ -35,13 +35,13 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from .errors import MechdynError, SimulationError
+from .methods import COMPARED, COMPARED_RTOLS
 from .parameters import ParameterSet
 
 __all__ = ["work_precision", "WorkPrecision", "Row", "Reference", "DEFAULT_METHODS",
            "DEFAULT_RTOLS"]
 
-DEFAULT_METHODS = ("RK45", "DOP853", "LSODA", "Radau", "BDF")
-DEFAULT_RTOLS = (1e-4, 1e-6, 1e-8, 1e-10)
+DEFAULT_METHODS, DEFAULT_RTOLS = COMPARED, COMPARED_RTOLS
 _REPEAT_BUDGET = 1.0      # s: stop repeating a run once its runs took this long ...
 _SHORT = 0.1              # ... but repeat short runs up to 5x as often within this
 _FLOOR = 1e-16            # errors below this are drawn at it on log axes

@@ -15,11 +15,9 @@ import csv
 from functools import cached_property
 
 import numpy as np
-import sympy as sp
 
 from .errors import MechdynError
 from .events import Event
-from .symbols import dotted_symbol, is_coordinate
 from .trajectory import Trajectory
 
 __all__ = ["Result", "Event", "Trajectory"]
@@ -55,21 +53,16 @@ class Result:
 
     def _index(self, key):
         n = self.compiled.dof
+        if isinstance(key, str):
+            return self._named(key)
+        import sympy as sp                     # a sympy key: the user has sympy loaded
+        from .symbols import is_coordinate
         if is_coordinate(key):
             name, order = key.func.__name__, 0
         elif isinstance(key, sp.Derivative) and is_coordinate(key.expr):
             name, order = key.expr.func.__name__, key.variable_count[0][1]
-        elif isinstance(key, (str, sp.Symbol)):
-            text = str(key)
-            if text in self.state_names:
-                return ("state", self.state_names.index(text))
-            if text in self.compiled.output_labels:
-                return ("output", text)
-            for i, c in enumerate(self.coordinates):
-                if text == str(dotted_symbol(c, 2)):
-                    return ("acceleration", i)
-            raise KeyError(f"{key!r}: not a state ({', '.join(self.state_names)}) or an output "
-                           f"({', '.join(self.compiled.output_labels) or 'none requested'})")
+        elif isinstance(key, sp.Symbol):
+            return self._named(str(key))
         else:
             label = next((name for name, item in self.scene.labelled_outputs()
                           if item == key), str(key))
@@ -86,6 +79,21 @@ class Result:
         if order == 1:
             return ("state", n + i)
         return ("acceleration", i)
+
+    def _named(self, text):
+        if text in self.state_names:
+            return ("state", self.state_names.index(text))
+        if text in self.compiled.output_labels:
+            return ("output", text)
+        if text in self.acceleration_names:
+            return ("acceleration", self.acceleration_names.index(text))
+        raise KeyError(f"{text!r}: not a state ({', '.join(self.state_names)}) or an output "
+                       f"({', '.join(self.compiled.output_labels) or 'none requested'})")
+
+    @property
+    def acceleration_names(self) -> list:
+        """The names of the accelerations (``phiddot``), as columns name them."""
+        return self.compiled.meta["acceleration_names"]
 
     def __getitem__(self, key) -> np.ndarray:
         kind, which = self._index(key)
@@ -197,8 +205,8 @@ class Result:
         data = {"t": t}
         for i, name in enumerate(self.state_names):
             data[name] = y[i]
-        for i, c in enumerate(self.coordinates):
-            data[str(dotted_symbol(c, 2))] = accelerations[i]
+        for i, name in enumerate(self.acceleration_names):
+            data[name] = accelerations[i]
         data.update(outputs)
         return data
 

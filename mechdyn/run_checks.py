@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .compile import SingularMassError
+from .generated import SingularMassError
 from .errors import SimulationError
 
 __all__ = ["Budget", "check_mass", "check_finite", "diagnosis", "state_text"]

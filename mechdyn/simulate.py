@@ -38,7 +38,7 @@ from .result import Result
 from .scene import DEFAULT_ATOL, Scene
 from .stepping import METHODS
 
-__all__ = ["simulate", "initial_state", "choose_method", "METHODS"]
+__all__ = ["simulate", "initial_state", "atol_vector", "choose_method", "METHODS"]
 
 
 def simulate(mechanism, scene: Scene, params: dict, *, progress=None, max_steps=None,
@@ -56,7 +56,7 @@ def simulate(mechanism, scene: Scene, params: dict, *, progress=None, max_steps=
     values = ParameterSet(params, mechanism=mechanism, scene=scene)
     base = values.vector(compiled.param_names)
     y0 = initial_state(compiled, mechanism, scene, values.numbers)
-    atol = _atol_vector(compiled, mechanism, scene)
+    atol = atol_vector(compiled, mechanism, scene)
     if scene.method != "auto" and scene.method not in (*METHODS, *KERNEL_ONLY):
         raise SceneError(f"scene {scene.name!r}: unknown method {scene.method!r}; "
                          f"use 'auto' or one of {', '.join((*METHODS, *KERNEL_ONLY))}")
@@ -123,7 +123,7 @@ def _initial_slot(key, declared, scene, what="initial value"):
                      f"declared coordinate or its speed (coordinates: {sorted(declared)})")
 
 
-def _atol_vector(compiled, mechanism, scene):
+def atol_vector(compiled, mechanism, scene):
     """A scalar atol, or the vector of a per-state dict (``"default"`` for the rest)."""
     if not isinstance(scene.atol, dict):
         return float(scene.atol)

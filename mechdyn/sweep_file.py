@@ -36,6 +36,8 @@ import numpy as np
 
 from .errors import MechdynError
 
+MAX_POINTS = 1_000_000       # default bound on a sweep's grid size (max_points= raises it)
+
 __all__ = ["SweepFile", "SweepError", "SweepFileError", "TEXT_COLUMNS"]
 
 TEXT_COLUMNS = ("reason", "error")

@@ -47,11 +47,11 @@ import numpy as np
 from . import __version__
 from .errors import ParameterError
 from .parameters import ParameterSet, to_number
-from .sweep_file import TEXT_COLUMNS, SweepError, SweepFile, SweepFileError
+from .sweep_file import MAX_POINTS, TEXT_COLUMNS, SweepError, SweepFile, SweepFileError
 
 __all__ = ["sweep", "Sweep", "SweepError", "SweepFileError", "MAX_POINTS", "IN_FLIGHT"]
 
-MAX_POINTS = 1_000_000       # default bound on the grid size (max_points= raises it)
+
 IN_FLIGHT = 512              # tasks submitted and not yet collected, at most
 BATCH_SECONDS = 0.05         # work per task once the cost of a point is known
 _MAX_BATCH = 64              # points per task, at most
