@@ -78,6 +78,25 @@ class Segment:
         """The number of steps."""
         return self._steps
 
+    def pieces(self):
+        """The steps as stored, ``(t, y, c)`` per piece (a compiled chunk, or the steps
+        concatenated once): no copy of the coefficients."""
+        if len(self._chunks) > 1 and all(len(t) == 1 for t, _, _ in self._chunks[1:]):
+            self.arrays()                     # one-step pieces (scipy): joined once
+        out, start = [], self._chunks[0][0][-1:]
+        for t, y, c in self._chunks:
+            if len(c):
+                out.append((np.concatenate([start, t]) if len(t) == len(c) else t, c))
+            start = t[-1:]
+        return out
+
+    def points(self):
+        """Step times ``(k + 1,)`` and states ``(k + 1, m)``, without coefficients."""
+        if len(self._chunks) == 1:
+            return self._chunks[0][0], self._chunks[0][1]
+        return (np.concatenate([t for t, _, _ in self._chunks]),
+                np.concatenate([y for _, y, _ in self._chunks]))
+
     def arrays(self):
         """``(t, y, c)``: step times ``(k + 1,)``, states ``(k + 1, m)`` and coefficients
         ``(k, d + 1, m)`` padded with zeros to the largest degree."""
@@ -121,7 +140,7 @@ class Trajectory:
         state."""
         times, states, owner = [], [], []
         for index, segment in enumerate(self.segments):
-            t, y, _ = segment.arrays()
+            t, y = segment.points()
             if times and len(t) and t[0] == times[-1][-1]:
                 times[-1], states[-1], owner[-1] = times[-1][:-1], states[-1][:-1], owner[-1][:-1]
             times.append(t)
@@ -131,31 +150,19 @@ class Trajectory:
             return np.zeros(0), np.zeros((0, 0)), np.zeros(0, dtype=int)
         return np.concatenate(times), np.concatenate(states).T, np.concatenate(owner)
 
-    def _stack(self):
+    def _pieces(self):
+        """``(starts, pieces)``: the start time of every piece of every segment and the
+        pieces ``(segment index, t, c)``, built once per change."""
         if self._stacked is None:
-            starts, widths, coefficients, owners, finals = [], [], [], [], None
-            degree = max((s.arrays()[2].shape[1] for s in self.segments if len(s)), default=1)
-            for index, segment in enumerate(self.segments):
-                t, y, c = segment.arrays()
-                if not len(c):
-                    continue
-                starts.append(t[:-1])
-                widths.append(np.diff(t))
-                padded = np.zeros((len(c), degree, c.shape[2]))
-                padded[:, :c.shape[1]] = c
-                coefficients.append(padded)
-                owners.append(np.full(len(c), index))
-                finals = (t[-1], y[-1])
-            if not starts:
-                self._stacked = None
-                return None
-            self._stacked = (np.concatenate(starts), np.concatenate(widths),
-                             np.concatenate(coefficients), np.concatenate(owners), finals)
+            pieces = [(index, t, c) for index, segment in enumerate(self.segments)
+                      for t, c in segment.pieces()]
+            self._stacked = (np.array([t[0] for _, t, _ in pieces]), pieces)
         return self._stacked
 
     def at(self, times, with_segments=False):
         """States at ``times`` (shape ``(m, len(times))``) from the step polynomials, and
-        with ``with_segments`` the index of the segment of each time."""
+        with ``with_segments`` the index of the segment of each time. At a boundary
+        between segments the later segment's value (the right limit)."""
         times = np.atleast_1d(np.asarray(times, dtype=float))
         first = self.segments[0].t_start
         last = self.segments[-1].t_end
@@ -165,19 +172,27 @@ class Trajectory:
             bad = times[outside][0]
             raise MechdynError(f"t = {bad} lies outside the simulated interval "
                                f"[{first}, {last}]")
-        stacked = self._stack()
-        if stacked is None:                 # no step at all: the run ended where it began
-            state = self.segments[-1].y_end
-            out = np.repeat(state[:, None], len(times), axis=1)
-            owners = np.full(len(times), len(self.segments) - 1)
-            return (out, owners) if with_segments else out
-        starts, widths, coefficients, owners, (t_final, y_final) = stacked
-        k = np.clip(np.searchsorted(starts, times, side="right") - 1, 0, len(starts) - 1)
-        x = np.clip((times - starts[k]) / widths[k], 0.0, 1.0)[:, None]
-        out = coefficients[k, -1]
-        for j in range(coefficients.shape[1] - 2, -1, -1):
-            out = out * x + coefficients[k, j]
-        at_end = times >= t_final
-        out[at_end] = y_final
-        out = out.T
-        return (out, owners[k]) if with_segments else out
+        m = len(self.segments[-1].y_end)
+        out = np.repeat(self.segments[-1].y_end[:, None], len(times), axis=1)
+        owners = np.full(len(times), len(self.segments) - 1)
+        starts, pieces = self._pieces()
+        if pieces:
+            which = np.clip(np.searchsorted(starts, times, side="right") - 1, 0,
+                            len(pieces) - 1)
+            at_end = times >= last
+            for j in np.unique(which[~at_end]):
+                chosen = np.flatnonzero((which == j) & ~at_end)
+                index, t, c = pieces[j]
+                out[:, chosen] = _horner(t, c, times[chosen], m)
+                owners[chosen] = index
+        return (out, owners) if with_segments else out
+
+
+def _horner(t, c, times, m):
+    """The step polynomials ``c`` over the steps ``t`` at ``times`` (all inside them)."""
+    k = np.clip(np.searchsorted(t, times, side="right") - 1, 0, len(c) - 1)
+    x = np.clip((times - t[k]) / (t[k + 1] - t[k]), 0.0, 1.0)[:, None]
+    value = c[k, -1]
+    for j in range(c.shape[1] - 2, -1, -1):
+        value = value * x + c[k, j]
+    return value.T
