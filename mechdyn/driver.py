@@ -40,6 +40,8 @@ _EVENT_LOOP_LIMIT = 200      # events at one instant before the run is called st
 _COLLAPSE = 1e-12            # a step shorter than this fraction of the run has collapsed
 _PROGRESS = 1e-6             # a segment this much of the rest long clears past failures
 _LONG_RUN = (0.3, 0.6)       # scipy seconds spent, seconds still expected: go compiled
+_EDGE = 1e-9                 # a domain argument this far down from its start: the edge
+_NEAR_EDGE = 1e-6            # ... and where a failing method stopped: the cause
 _SETTLE_STEPS = 200          # a method switch after fewer steps ...
 _HOLD_STEPS = 1000           # ... holds the next segment's method for this many steps
 
@@ -75,6 +77,7 @@ class Driver:
         self.started = self.last_report = time.perf_counter()
         reason = "t_end"
         try:
+            domains = self._domains = self._check_domains(t, y, self.modes.p(Mode()))
             terms = self.c.terms(t, y, self.modes.p(Mode()))
             self.mass_scale = check_mass(self.c, terms, t, y)
             muted, instant, count, h = set(), None, 0, None
@@ -126,6 +129,12 @@ class Driver:
             raise
         if reason == "t_end" and self.c.stop_labels:
             reason = "t_end (stop condition not reached)"
+        try:
+            self._check_domains(t, y, self.modes.p(mode), start=domains)
+        except SimulationError as error:
+            self._finish()
+            error.partial = self._result("failed: " + str(error))
+            raise
         self._finish()
         return self._result(reason)
 
@@ -208,6 +217,9 @@ class Driver:
         """The stop, the new mode, the state and the muted switches after events."""
         t = float(t)
         kinds = [self._watched[i] for i in fired]
+        for w in kinds:
+            if w.kind == "domain":
+                self._no_real_value(t, y, w.index)
         if any(w.kind == "minor" for w in kinds):
             self.loops.check_singular(t, y, self.modes.p(mode))   # else a regular crossing
         muted = self._chattering(t, {w.index for w in kinds if w.kind == "switch"})
@@ -229,6 +241,32 @@ class Driver:
             self.events.append(Event(t, "end", label, "stop condition met"))
             return label, new_mode, y, muted
         return None, new_mode, y, muted
+
+    def _no_real_value(self, t, y, index):
+        """Raise: an element's expression has no real value beyond ``(t, y)``."""
+        label = self.c.event_kinds[index][1]
+        raise SimulationError(f"integration stopped at t = {t:.6g} s: {label} has no real "
+                              f"value beyond {state_text(self.c, y)} (the argument of a "
+                              "root, power, logarithm or arcsine there turns negative)")
+
+    def _check_domains(self, t, y, p, start=None, edge=None):
+        """Refuse a state where an element's expression has no real value; at the end
+        of a run (``start``: the values at the start), one that has crept up to the edge
+        of its domain, where the equations become singular (a stall, not a result)."""
+        values = self.c.events(t, y, p)
+        for i, (kind, label) in enumerate(self.c.event_kinds):
+            if kind != "domain":
+                continue
+            if values[i] < 0:
+                self._no_real_value(t, y, i)
+            if start is not None and start[i] > 0 and values[i] <= (edge or _EDGE) * start[i]:
+                raise SimulationError(
+                    f"integration stopped at t = {t:.6g} s: the motion reaches the edge of "
+                    f"{label} at {state_text(self.c, y)}: the argument of its root, power, "
+                    "logarithm or arcsine is zero there and the expression has no real "
+                    "value beyond (the equations are singular at the edge); the "
+                    "declaration does not describe this motion")
+        return values
 
     def _flags(self, t, y, mode, muted):
         """The side of each switching function at ``(t, y)``; one that is exactly zero
@@ -286,13 +324,14 @@ class Driver:
     def _after_failure(self, t, y, mode, method, message):
         """The next method to try after ``method`` failed at ``(t, y)``, or the error."""
         self._failed.append(method)
+        p = self.modes.p(mode)        # a failure at the edge of an expression's domain
+        self._check_domains(t, y, p, start=self._domains, edge=_NEAR_EDGE)
         if self.auto:
             for candidate in fallbacks(method, self.scene.rtol, self.plan.active):
                 if candidate not in self._failed:
                     self._record_switch(t, method, candidate,
                                         f"retry after {method} failed: {message}")
                     return candidate
-        p = self.modes.p(mode)
         self.loops.check_singular(t, y, p)
         raise SimulationError(
             f"integration failed at t = {t:.6g} s with {' then '.join(self._failed)}: "

@@ -18,6 +18,8 @@ constraint). The functions:
   and the switching functions (where a ``Piecewise``, ``Min``, ``Max``, ``Abs``, ``sign`` or
   ``Heaviside`` of the forcing changes branch), in the order of ``meta["events"]``; the
   branches are locked by flags in ``p`` after the friction signs (:class:`Switches`);
+  last, the domain conditions (:func:`domain_conditions`: an argument that must not be
+  negative for an element's expression to have a real value);
 - ``outputs``, ``energy`` (``[T, V]``).
 """
 from __future__ import annotations
@@ -88,8 +90,10 @@ def generate(eqs, scene, elements) -> tuple:
         ("constraint_bias", (len(constraints),), [r(c.bias) for c in constraints]),
         ("constraint_rate", (len(constraints),),
          [r(sp.diff(c.expression, t)) for c in constraints])])
+    domains = domain_conditions(eqs, elements, set(eqs.q) | set(eqs.u) | {t})
     event_exprs = [r(e) for _, e in stops] + [r(fr.rate) for fr in frictions] \
-        + [r(m) for m in magnitudes] + [r(e) for e in switches.functions]
+        + [r(m) for m in magnitudes] + [r(e) for e in switches.functions] \
+        + [r(e) for _, e in domains]
     if constraints:      # closed loops: rhs solves M a = f + G' lambda, G a = -bias
         from .loop_code import loop_sources
         loops = loop_sources(eqs, mass, force, rename, source, states)
@@ -120,7 +124,8 @@ def generate(eqs, scene, elements) -> tuple:
         "events": [["stop", label] for label, _ in stops]
         + [["rate", fr.name] for fr in frictions]
         + [["magnitude", fr.name] for fr in frictions]
-        + [["switch", str(e)] for e in switches.functions],
+        + [["switch", str(e)] for e in switches.functions]
+        + [["domain", label] for label, _ in domains],
         "periods": len(periods),
         "autonomous": not any(t in sp.sympify(e).free_symbols
                               for e in [mass_matrix, forcing] + magnitudes),
@@ -211,6 +216,42 @@ class Switches:
         self.functions.append(g)
         self.flags.append(sp.Symbol(f"w{len(self.flags)}", real=True))
         return self.flags[-1], 1
+
+
+def domain_conditions(eqs, elements, variables) -> list:
+    """``(label, g)`` for every argument ``g`` of the scene's element expressions that
+    must not become negative for the expression to have a real value (a square root
+    or fractional power, a logarithm, an arcsine or arccosine: ``1 - x^2``), where it
+    depends on the state or time. A run stops where one does, naming the element."""
+    found = []
+    for name, element in elements.items():
+        if name not in eqs.elements and type(element).__name__ != "Link":
+            continue
+        kind = type(element).__name__.lower()
+        for attribute, expr in element.expressions().items():
+            plain = eqs.to_plain(sp.sympify(expr))
+            for g in _domain_arguments(plain):
+                if g.free_symbols & variables and not g.is_nonnegative:
+                    found.append((f"{kind} {name!r}: {attribute} = {_written(expr)}", g))
+    return found
+
+
+def _written(expr) -> str:
+    """An expression as a user reads it: coordinates and speeds as plain symbols."""
+    from .scene import _readable
+    return _readable(sp.sympify(expr))
+
+
+def _domain_arguments(expr) -> list:
+    out = []
+    for node in sp.preorder_traversal(expr):
+        if isinstance(node, sp.Pow) and not node.exp.is_integer:
+            out.append(node.base)
+        elif isinstance(node, sp.log):
+            out.append(node.args[0])
+        elif isinstance(node, (sp.asin, sp.acos)):
+            out.append(1 - node.args[0] ** 2)
+    return out
 
 
 def _forcing_periods(expressions, states) -> list:

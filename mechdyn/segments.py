@@ -26,7 +26,7 @@ __all__ = ["Watched", "watched_events", "scipy_runner", "compiled_runner", "fast
 @dataclass(frozen=True)
 class Watched:
     """One watched event: ``kind`` ("stop", "switch", "stick", "engage", "release",
-    "minor"), ``index`` (the entry of the generated ``events``; the group for a
+    "minor", "domain"), ``index`` (the entry of the generated ``events``; the group for a
     release; the minor), ``element`` (the stop condition or friction element, else
     -1), ``direction`` (+1, -1, 0) and ``side`` (+1/-1: the side a zero counts as; 0:
     a zero takes the side the function moves to)."""
@@ -39,7 +39,7 @@ class Watched:
     @property
     def compiled(self) -> bool:
         """Whether it is an entry of the generated ``events`` function."""
-        return self.kind in ("stop", "switch", "stick", "engage")
+        return self.kind in ("stop", "switch", "stick", "engage", "domain")
 
 
 def watched_events(compiled, scene, mode, muted, minor=None) -> list:
@@ -61,6 +61,8 @@ def watched_events(compiled, scene, mode, muted, minor=None) -> list:
         if sign != 0:
             out.append(Watched("stick", rates[k], k, int(-sign), int(sign)))
     out += [Watched("release", g, -1, -1, 1) for g in range(len(mode.groups))]
+    out += [Watched("domain", i, j, -1, 1) for j, i in enumerate(
+        i for i, (kind, _) in enumerate(kinds) if kind == "domain")]
     out += [Watched("engage", magnitudes[k], k, 1, -1) for k in sorted(mode.free)]
     if minor is not None:
         out.append(Watched("minor", minor[0], -1, int(minor[1]), 0))

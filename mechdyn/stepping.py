@@ -109,6 +109,8 @@ class ScipySegment:
                 message = solver.step()
             if solver.status == "failed":
                 return Outcome("failed", t_old, y_old, message=str(message or "step failed"))
+            if not np.all(np.isfinite(solver.y)):       # a solver that accepted NaN
+                return Outcome("failed", t_old, y_old, message="the state became non-finite")
             self.steps += 1
             coefficients = step_polynomial(solver.dense_output())
             if self.watch is not None:
