@@ -195,7 +195,6 @@ def _periodic(args):
 
 
 def _add_periodic_command(commands):
-    from .parse import number
     periodic = commands.add_parser(
         "periodic", help="steady periodic motion, Floquet multipliers, speed fluctuation",
         description="Find the periodic motion of a scene: under periodic forcing or "
@@ -209,9 +208,11 @@ def _add_periodic_command(commands):
     _model_argument(periodic)
     _scene_argument(periodic)
     _param_argument(periodic)
-    periodic.add_argument("--period", type=number, metavar="T",
-                          help="period in s (a number or arithmetic such as 2*pi/26.18)")
-    periodic.add_argument("--cycle", type=number, default="2*pi", metavar="PHI",
+    periodic.add_argument("--period", type=_quantity("s", "period"), metavar="T",
+                          help="period in s (a number or arithmetic such as 2*pi/26.18, "
+                          "or with a unit: '40 ms')")
+    periodic.add_argument("--cycle", type=_quantity("rad", "cycle"), default="2*pi",
+                          metavar="PHI",
                           help="cycle of a one-DOF machine's coordinate (default 2*pi)")
     periodic.add_argument("--plot", metavar="FILE.png", help="save one period as a figure")
     periodic.set_defaults(run=_periodic)
@@ -296,34 +297,59 @@ def _add_report_command(commands):
 
 
 def _grid_axis(model, text, max_points):
-    """``name=start:stop:count`` (evenly spaced) or ``name=v1,v2,...`` -> (name, values);
-    a count above ``max_points`` is refused before any value is made."""
+    """``name=start:stop:count`` (evenly spaced) or ``name=v1,v2,...`` -> (name, SI
+    values); a unit after the values applies to all of them (``P=1:3:3 kN``), else
+    every value or none carries one (``P=500 N,2 kN``). A count above ``max_points`` is
+    refused before any value is made."""
+    import re
+
     import numpy as np
 
+    from .parameters import to_number
     from .parse import ValueTextError, number
     name, sep, values = text.partition("=")
     if not sep or not name.strip().isidentifier():
         raise ValueTextError(f"--grid {text!r}: expected name=start:stop:count or "
-                             "name=v1,v2,..., e.g. P=10:100:50")
+                             "name=v1,v2,..., e.g. P=10:100:50 or P=1:3:3 kN")
     name = str(model.param_symbol(name.strip()))
+    declared = model.mechanism.parameter_units.get(name)
+    common = re.fullmatch(r"\s*(\S+)\s+([^,:]+?)\s*", values)
+    body, unit = (common.group(1), common.group(2)) if common else (values, "")
 
     def value(part):
         try:
-            return number(part)
-        except ValueTextError as error:
-            raise ValueTextError(f"--grid {text!r}: {name}: {error}") from None
-    if ":" in values:
-        parts = values.split(":")
-        if len(parts) != 3:
-            raise ValueTextError(f"--grid {text!r}: expected start:stop:count")
-        start, stop, count = (value(part) for part in parts)
-        if count != int(count) or count < 1:
-            raise ValueTextError(f"--grid {text!r}: count must be a whole number >= 1")
-        if count > max_points:
-            raise ValueTextError(f"--grid {text!r}: {count:,.0f} values, more than "
-                                 f"--max-points {max_points:,}")
-        return name, list(np.linspace(start, stop, int(count)))
-    return name, [value(part) for part in values.split(",")]
+            return to_number(name, f"{part} {unit}" if unit else part, declared)
+        except MechdynError as error:
+            raise ValueTextError(f"--grid {text!r}: {error}") from None
+    parts = body.split(":") if ":" in body else body.split(",")
+    with_unit = [_has_unit(part) for part in parts] if not unit else []
+    if any(with_unit) and not all(with_unit[:2 if ":" in body else None]):
+        raise ValueTextError(f"--grid {text!r}: some values carry a unit and others do "
+                             "not (bare numbers are SI); give every value its unit or one "
+                             "unit after all of them, e.g. P=10,20,50 kN")
+    if ":" not in body:
+        return name, [value(part) for part in parts]
+    if len(parts) != 3:
+        raise ValueTextError(f"--grid {text!r}: expected start:stop:count")
+    start, stop = value(parts[0]), value(parts[1])
+    try:
+        count = number(parts[2])
+    except ValueTextError as error:
+        raise ValueTextError(f"--grid {text!r}: count: {error}") from None
+    if count != int(count) or count < 1:
+        raise ValueTextError(f"--grid {text!r}: count must be a whole number >= 1")
+    if count > max_points:
+        raise ValueTextError(f"--grid {text!r}: {count:,.0f} values, more than "
+                             f"--max-points {max_points:,}")
+    return name, list(np.linspace(start, stop, int(count)))
+
+
+def _has_unit(text) -> bool:
+    from .parse import ValueTextError, quantity
+    try:
+        return bool(quantity(text)[1])
+    except ValueTextError:
+        return False                    # its own error comes when it is read
 
 
 def _sweep(args):
@@ -530,17 +556,27 @@ def _units_argument(parser):
                         "name), e.g. speed=rpm,power=kW,rope=kN")
 
 
-def _sample_argument(parser):
-    from .parse import number
-
-    def step(text):
-        value = number(text)
+def _quantity(unit, what):
+    """An argparse type: a positive value, SI or a text with a unit of ``unit``'s
+    dimension (``"1 ms"`` for seconds)."""
+    def convert(text):
+        from .units import to_si
+        try:
+            value = to_si(text, unit)
+        except MechdynError as error:
+            raise argparse.ArgumentTypeError(str(error)) from None
         if not value > 0:
-            raise argparse.ArgumentTypeError(f"{text!r} is not a positive time step")
+            raise argparse.ArgumentTypeError(f"{text!r} is not a positive {what}")
         return value
-    parser.add_argument("--sample", type=step, metavar="DT",
-                        help="CSV rows and plot points every DT seconds (from the dense "
-                        "output) instead of the solver's steps")
+    convert.__name__ = what
+    return convert
+
+
+def _sample_argument(parser):
+    parser.add_argument("--sample", type=_quantity("s", "time step"), metavar="DT",
+                        help="CSV rows and plot points every DT seconds (or a time with "
+                        "its unit, '1 ms') from the dense output instead of the solver's "
+                        "steps")
 
 
 # ------------------------------------------------------------- parser and main
