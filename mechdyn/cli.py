@@ -72,9 +72,9 @@ def _params(model, scene, assignments):
 
 
 def _simulate(args):
-    model, scene, params = _scene_inputs(args)
     try:
-        result = model.mechanism.simulate(scene, params)
+        with _progress(args) as progress:
+            result = _run_scene_or_cycle(args, progress)
     except SimulationError as error:
         if error.partial is not None and args.csv:
             error.partial.to_csv(args.csv)
@@ -88,6 +88,30 @@ def _simulate(args):
         result.plot(args.plot, sample=args.sample, units=args.units)
         print(f"wrote {args.plot}")
     return 0
+
+
+def _run_scene_or_cycle(args, progress):
+    """The result of ``--scene NAME``, or of the duty cycle ``--scene A+B+C``."""
+    from .model_file import load_model
+    from .parse import assignment
+    model = load_model(args.model)
+    if "+" in args.scene and args.scene not in model.scenes:
+        from .cycle import duty_cycle
+        overrides = dict(assignment(text) for text in args.param or ())
+        return duty_cycle(model, args.scene, overrides, progress=progress)
+    scene = model.scene(args.scene)
+    params = _params(model, scene, args.param)
+    return model.mechanism.simulate(scene, params, progress=progress)
+
+
+def _progress(args):
+    """The progress line on stderr: for runs past two seconds when stderr is a terminal
+    (``--progress``: whatever stderr is; ``--no-progress``: never)."""
+    from contextlib import nullcontext
+
+    from .progress import ProgressLine
+    shown = args.progress if args.progress is not None else sys.stderr.isatty()
+    return ProgressLine(sys.stderr) if shown else nullcontext()
 
 
 def _add_equations_command(commands):
@@ -120,16 +144,23 @@ def _add_simulate_command(commands):
         "  mechdyn simulate models/shoe_brake.py --scene braking --param P=30 "
         "--plot brake.png --csv brake.csv\n"
         "  mechdyn simulate models/motor_startup.py --scene startup --param 'M_L=0.06 kN' "
-        "--units speed=rpm,power=kW --csv run.csv --sample 0.01\n\n"
+        "--units speed=rpm,power=kW --csv run.csv --sample 0.01\n"
+        "  mechdyn simulate models/press_cycle.py --scene startup+steady+braking "
+        "--plot cycle.png\n\n"
+        "--scene A+B+C runs a duty cycle: each phase starts where the one before ended "
+        "(one summary, plot and CSV with a phase column)\n"
         "exit status 1 if the integration fails (the partial trajectory still goes to --csv)",
         formatter_class=argparse.RawDescriptionHelpFormatter)
     _model_argument(simulate)
-    _scene_argument(simulate)
+    simulate.add_argument("--scene", required=True, metavar="NAME",
+                          help="scene name, or A+B+C: a duty cycle of scenes run one after "
+                          "another")
     _param_argument(simulate)
     simulate.add_argument("--plot", metavar="FILE.png", help="save a figure (PNG, SVG, PDF)")
     simulate.add_argument("--csv", metavar="FILE.csv", help="save the trajectory")
     _units_argument(simulate)
     _sample_argument(simulate)
+    _progress_argument(simulate)
     simulate.set_defaults(run=_simulate)
 
 
@@ -480,7 +511,8 @@ def _add_characteristic_command(commands):
 def _animate(args):
     from .animation import animate
     model, scene, params = _scene_inputs(args)
-    result = model.mechanism.simulate(scene, params)
+    with _progress(args) as progress:
+        result = model.mechanism.simulate(scene, params, progress=progress)
     film = animate(model.mechanism, result, params, args.out, sample=args.sample,
                    fps=args.fps)
     print(f"wrote {film.path}: {film.frames} frames, every {film.times[1] - film.times[0]:.4g} "
@@ -507,6 +539,7 @@ def _add_animate_command(commands):
     _sample_argument(command)
     command.add_argument("--fps", type=float, default=25.0,
                          help="frames per second of the GIF (default 25)")
+    _progress_argument(command)
     command.set_defaults(run=_animate)
 
 
@@ -570,6 +603,12 @@ def _quantity(unit, what):
         return value
     convert.__name__ = what
     return convert
+
+
+def _progress_argument(parser):
+    parser.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
+                        help="show the simulated time on stderr for runs longer than two "
+                        "seconds (default: when stderr is a terminal)")
 
 
 def _sample_argument(parser):

@@ -179,9 +179,9 @@ class Result:
 
     def energy(self):
         """Kinetic and potential energy at the step points: ``(T, V)`` arrays."""
-        values = np.array([self.compiled.energy(self.t[j], self.y[:, j], self._base
-                                                + [0.0] * len(self.compiled.frictions))
-                           for j in range(len(self.t))]).T
+        def evaluate(t, y, owner):          # the mode's vector: switch flags included
+            return self.compiled.energy(t, y, self._modes.p(self.trajectory.segments[owner].mode))
+        values = self._each_point(evaluate).reshape(2, -1)
         return values[0], values[1]
 
     # ----------------------------------------------------------------- export

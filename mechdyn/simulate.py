@@ -126,9 +126,11 @@ def initial_state(compiled, mechanism, scene, params) -> np.ndarray:
     if missing:
         guesses = (" and a guess for each dependent coordinate, which picks the assembly "
                    "branch" if solved else "")
+        phase = ("; a scene without initial values runs as a later phase of a duty "
+                 "cycle, e.g. --scene startup+" + scene.name) if not scene.initial else ""
         raise SceneError(f"scene {scene.name!r}: missing initial values for "
                          f"{', '.join(missing)} (give them in initial={{q: ..., "
-                         f"md.speed(q): ...}}{guesses})")
+                         f"md.speed(q): ...}}{guesses}){phase}")
     if compiled.constraints:
         from .assembly import assemble
         return assemble(compiled, y0, compiled.parameter_vector(params), scene.t_start,
