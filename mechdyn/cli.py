@@ -101,6 +101,8 @@ def _run_scene_or_cycle(args, progress):
         return duty_cycle(model, args.scene, overrides, progress=progress)
     scene = model.scene(args.scene)
     params = _params(model, scene, args.param)
+    if progress is not None:
+        progress.t_start = scene.t_start
     return model.mechanism.simulate(scene, params, progress=progress)
 
 
@@ -239,10 +241,12 @@ def _add_periodic_command(commands):
     _model_argument(periodic)
     _scene_argument(periodic)
     _param_argument(periodic)
-    periodic.add_argument("--period", type=_quantity("s", "period"), metavar="T",
+    periodic.add_argument("--period", type=_quantity("s", "period", positive=False),
+                          metavar="T",
                           help="period in s (a number or arithmetic such as 2*pi/26.18, "
                           "or with a unit: '40 ms')")
-    periodic.add_argument("--cycle", type=_quantity("rad", "cycle"), default="2*pi",
+    periodic.add_argument("--cycle", type=_quantity("rad", "cycle", positive=False),
+                          default="2*pi",
                           metavar="PHI",
                           help="cycle of a one-DOF machine's coordinate (default 2*pi)")
     periodic.add_argument("--plot", metavar="FILE.png", help="save one period as a figure")
@@ -512,6 +516,8 @@ def _animate(args):
     from .animation import animate
     model, scene, params = _scene_inputs(args)
     with _progress(args) as progress:
+        if progress is not None:
+            progress.t_start = scene.t_start
         result = model.mechanism.simulate(scene, params, progress=progress)
     film = animate(model.mechanism, result, params, args.out, sample=args.sample,
                    fps=args.fps)
@@ -589,16 +595,16 @@ def _units_argument(parser):
                         "name), e.g. speed=rpm,power=kW,rope=kN")
 
 
-def _quantity(unit, what):
-    """An argparse type: a positive value, SI or a text with a unit of ``unit``'s
-    dimension (``"1 ms"`` for seconds)."""
+def _quantity(unit, what, positive=True):
+    """An argparse type: a value (positive if asked), SI or a text with a unit of
+    ``unit``'s dimension (``"1 ms"`` for seconds)."""
     def convert(text):
         from .units import to_si
         try:
             value = to_si(text, unit)
         except MechdynError as error:
             raise argparse.ArgumentTypeError(str(error)) from None
-        if not value > 0:
+        if positive and not value > 0:
             raise argparse.ArgumentTypeError(f"{text!r} is not a positive {what}")
         return value
     convert.__name__ = what

@@ -26,8 +26,9 @@ __all__ = ["ProgressLine"]
 class ProgressLine:
     """``progress(t, t_end)`` writing one line to ``stream`` (stderr), rewritten with a
     carriage return; ``delay``: seconds of a run before the line appears; ``clock``:
-    the time source (``time.monotonic``). Use it as a context manager: the line is
-    cleared on leaving, also after an error."""
+    the time source (``time.monotonic``); ``t_start``: the run's start time (the
+    percentage counts from it). Use it as a context manager: the line is cleared on
+    leaving, also after an error."""
 
     def __init__(self, stream=None, delay=2.0, clock=None):
         self.stream = stream if stream is not None else sys.stderr
@@ -35,7 +36,7 @@ class ProgressLine:
         self.clock = clock or time.monotonic
         self.started = self.clock()
         self.width = 0
-        self.label, self.t_start = "", None
+        self.label, self.t_start = "", 0.0
 
     def phase(self, name, number, count, t_start):
         """A duty cycle's phase ``number`` of ``count`` starts at time ``t_start``."""
@@ -44,7 +45,7 @@ class ProgressLine:
     def __call__(self, t, t_end):
         if self.clock() - self.started < self.delay:
             return
-        begin = self.t_start if self.t_start is not None else 0.0
+        begin = self.t_start
         span = t_end - begin
         share = (t - begin) / span if span > 0 else 1.0
         text = (f"mechdyn: {self.label}t = {t:.4g} s of {t_end:.4g} s "

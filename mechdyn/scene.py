@@ -221,8 +221,9 @@ class Scene:
         if not isinstance(self.initial, dict):
             raise SceneError(f"scene {self.name!r}: initial must be a dict {{q: value, "
                              f"md.speed(q): value}}, got {type(self.initial).__name__}")
-        given = dict(self.given)
         initial = dict(self.initial)
+        given = {key: text for key, text in self.given.items()    # kept through replace()
+                 if isinstance(initial.get(key), float)}
         for key, value in self.initial.items():
             if isinstance(value, str):
                 given[key] = " ".join(value.split())
