@@ -145,7 +145,7 @@ def _add_simulate_command(commands):
         "  mechdyn simulate models/shoe_brake.py --scene braking\n"
         "  mechdyn simulate models/shoe_brake.py --scene braking --param P=30 "
         "--plot brake.png --csv brake.csv\n"
-        "  mechdyn simulate models/motor_startup.py --scene startup --param 'M_L=0.06 kN' "
+        "  mechdyn simulate models/motor_startup.py --scene startup --param 'M_L=0.06 kN*m' "
         "--units speed=rpm,power=kW --csv run.csv --sample 0.01\n"
         "  mechdyn simulate models/press_cycle.py --scene startup+steady+braking "
         "--plot cycle.png\n\n"
