@@ -117,6 +117,8 @@ def _problem(mech, scene, params, what):
     start = {"t": sp.S.Zero, "phi": sp.S.Zero, "omega": sp.S.Zero}
     direction = sp.S.One
     if scene is not None:
+        from .scene_units import check_given
+        check_given(mech, scene)
         coordinate = eqs.coordinates[0]
         for role, key in (("phi", coordinate), ("omega", sp.Derivative(coordinate, t))):
             if key not in scene.initial:

@@ -73,25 +73,14 @@ def _params(model, scene, assignments):
 
 
 def _simulate(args):
-    from . import warm
-    name = warm.entry_name(args.model, args.scene, args.param)
-    result = warm.recall(name)          # the same command before: no model file, no sympy
-    if result is None:
-        before = set(sys.modules)
-        model, scene, params = _scene_inputs(args)
-        try:
-            result = model.mechanism.simulate(scene, params)
-        except SimulationError as error:
-            if error.partial is not None and args.csv:
-                error.partial.to_csv(args.csv)
-                print(f"partial result up to the failure written to {args.csv}",
-                      file=sys.stderr)
-            raise
-        if name is not None:
-            from .simulate import atol_vector
-            warm.remember(name, model, scene, result,
-                          atol_vector(result.compiled, model.mechanism, scene),
-                          warm.local_modules(before, Path(args.model).parent))
+    try:
+        with _progress(args) as progress:
+            result = _run_scene_or_cycle(args, progress)
+    except SimulationError as error:
+        if error.partial is not None and args.csv:
+            error.partial.to_csv(args.csv)
+            print(f"partial result up to the failure written to {args.csv}", file=sys.stderr)
+        raise
     print(result.summary(units=args.units))
     if args.csv:
         result.to_csv(args.csv, sample=args.sample, units=args.units)
@@ -100,6 +89,45 @@ def _simulate(args):
         result.plot(args.plot, sample=args.sample, units=args.units)
         print(f"wrote {args.plot}")
     return 0
+
+
+def _run_scene_or_cycle(args, progress):
+    """The result of ``--scene NAME``, or of the duty cycle ``--scene A+B+C``; the same
+    single-scene command as before runs from the warm start (:mod:`mechdyn.warm`)."""
+    from . import warm
+    from .model_file import load_model
+    from .parse import assignment
+    name = None if "+" in args.scene else warm.entry_name(args.model, args.scene, args.param)
+    result = warm.recall(name, progress)       # no model file, no sympy
+    if result is not None:
+        return result
+    before = set(sys.modules)
+    model = load_model(args.model)
+    if "+" in args.scene and args.scene not in model.scenes:
+        from .cycle import duty_cycle
+        overrides = dict(assignment(text) for text in args.param or ())
+        return duty_cycle(model, args.scene, overrides, progress=progress)
+    scene = model.scene(args.scene)
+    params = _params(model, scene, args.param)
+    if progress is not None:
+        progress.t_start = scene.t_start
+    result = model.mechanism.simulate(scene, params, progress=progress)
+    if name is not None:
+        from .simulate import atol_vector
+        warm.remember(name, model, scene, result,
+                      atol_vector(result.compiled, model.mechanism, scene),
+                      warm.local_modules(before, Path(args.model).parent))
+    return result
+
+
+def _progress(args):
+    """The progress line on stderr: for runs past two seconds when stderr is a terminal
+    (``--progress``: whatever stderr is; ``--no-progress``: never)."""
+    from contextlib import nullcontext
+
+    from .progress import ProgressLine
+    shown = args.progress if args.progress is not None else sys.stderr.isatty()
+    return ProgressLine(sys.stderr) if shown else nullcontext()
 
 
 def _add_equations_command(commands):
@@ -131,17 +159,24 @@ def _add_simulate_command(commands):
         "  mechdyn simulate models/shoe_brake.py --scene braking\n"
         "  mechdyn simulate models/shoe_brake.py --scene braking --param P=30 "
         "--plot brake.png --csv brake.csv\n"
-        "  mechdyn simulate models/motor_startup.py --scene startup --param 'M_L=0.06 kN' "
-        "--units speed=rpm,power=kW --csv run.csv --sample 0.01\n\n"
+        "  mechdyn simulate models/motor_startup.py --scene startup --param 'M_L=0.06 kN*m' "
+        "--units speed=rpm,power=kW --csv run.csv --sample 0.01\n"
+        "  mechdyn simulate models/press_cycle.py --scene startup+steady+braking "
+        "--plot cycle.png\n\n"
+        "--scene A+B+C runs a duty cycle: each phase starts where the one before ended "
+        "(one summary, plot and CSV with a phase column)\n"
         "exit status 1 if the integration fails (the partial trajectory still goes to --csv)",
         formatter_class=argparse.RawDescriptionHelpFormatter)
     _model_argument(simulate)
-    _scene_argument(simulate)
+    simulate.add_argument("--scene", required=True, metavar="NAME",
+                          help="scene name, or A+B+C: a duty cycle of scenes run one after "
+                          "another")
     _param_argument(simulate)
     simulate.add_argument("--plot", metavar="FILE.png", help="save a figure (PNG, SVG, PDF)")
     simulate.add_argument("--csv", metavar="FILE.csv", help="save the trajectory")
     _units_argument(simulate)
     _sample_argument(simulate)
+    _progress_argument(simulate)
     simulate.set_defaults(run=_simulate)
 
 
@@ -207,7 +242,6 @@ def _periodic(args):
 
 
 def _add_periodic_command(commands):
-    from .parse import number
     periodic = commands.add_parser(
         "periodic", help="steady periodic motion, Floquet multipliers, speed fluctuation",
         description="Find the periodic motion of a scene: under periodic forcing or "
@@ -221,9 +255,13 @@ def _add_periodic_command(commands):
     _model_argument(periodic)
     _scene_argument(periodic)
     _param_argument(periodic)
-    periodic.add_argument("--period", type=number, metavar="T",
-                          help="period in s (a number or arithmetic such as 2*pi/26.18)")
-    periodic.add_argument("--cycle", type=number, default="2*pi", metavar="PHI",
+    periodic.add_argument("--period", type=_quantity("s", "period", positive=False),
+                          metavar="T",
+                          help="period in s (a number or arithmetic such as 2*pi/26.18, "
+                          "or with a unit: '40 ms')")
+    periodic.add_argument("--cycle", type=_quantity("rad", "cycle", positive=False),
+                          default="2*pi",
+                          metavar="PHI",
                           help="cycle of a one-DOF machine's coordinate (default 2*pi)")
     periodic.add_argument("--plot", metavar="FILE.png", help="save one period as a figure")
     periodic.set_defaults(run=_periodic)
@@ -308,34 +346,59 @@ def _add_report_command(commands):
 
 
 def _grid_axis(model, text, max_points):
-    """``name=start:stop:count`` (evenly spaced) or ``name=v1,v2,...`` -> (name, values);
-    a count above ``max_points`` is refused before any value is made."""
+    """``name=start:stop:count`` (evenly spaced) or ``name=v1,v2,...`` -> (name, SI
+    values); a unit after the values applies to all of them (``P=1:3:3 kN``), else
+    every value or none carries one (``P=500 N,2 kN``). A count above ``max_points`` is
+    refused before any value is made."""
+    import re
+
     import numpy as np
 
+    from .parameters import to_number
     from .parse import ValueTextError, number
     name, sep, values = text.partition("=")
     if not sep or not name.strip().isidentifier():
         raise ValueTextError(f"--grid {text!r}: expected name=start:stop:count or "
-                             "name=v1,v2,..., e.g. P=10:100:50")
+                             "name=v1,v2,..., e.g. P=10:100:50 or P=1:3:3 kN")
     name = str(model.param_symbol(name.strip()))
+    declared = model.mechanism.parameter_units.get(name)
+    common = re.fullmatch(r"\s*(\S+)\s+([^,:]+?)\s*", values)
+    body, unit = (common.group(1), common.group(2)) if common else (values, "")
 
     def value(part):
         try:
-            return number(part)
-        except ValueTextError as error:
-            raise ValueTextError(f"--grid {text!r}: {name}: {error}") from None
-    if ":" in values:
-        parts = values.split(":")
-        if len(parts) != 3:
-            raise ValueTextError(f"--grid {text!r}: expected start:stop:count")
-        start, stop, count = (value(part) for part in parts)
-        if count != int(count) or count < 1:
-            raise ValueTextError(f"--grid {text!r}: count must be a whole number >= 1")
-        if count > max_points:
-            raise ValueTextError(f"--grid {text!r}: {count:,.0f} values, more than "
-                                 f"--max-points {max_points:,}")
-        return name, list(np.linspace(start, stop, int(count)))
-    return name, [value(part) for part in values.split(",")]
+            return to_number(name, f"{part} {unit}" if unit else part, declared)
+        except MechdynError as error:
+            raise ValueTextError(f"--grid {text!r}: {error}") from None
+    parts = body.split(":") if ":" in body else body.split(",")
+    with_unit = [_has_unit(part) for part in parts] if not unit else []
+    if any(with_unit) and not all(with_unit[:2 if ":" in body else None]):
+        raise ValueTextError(f"--grid {text!r}: some values carry a unit and others do "
+                             "not (bare numbers are SI); give every value its unit or one "
+                             "unit after all of them, e.g. P=10,20,50 kN")
+    if ":" not in body:
+        return name, [value(part) for part in parts]
+    if len(parts) != 3:
+        raise ValueTextError(f"--grid {text!r}: expected start:stop:count")
+    start, stop = value(parts[0]), value(parts[1])
+    try:
+        count = number(parts[2])
+    except ValueTextError as error:
+        raise ValueTextError(f"--grid {text!r}: count: {error}") from None
+    if count != int(count) or count < 1:
+        raise ValueTextError(f"--grid {text!r}: count must be a whole number >= 1")
+    if count > max_points:
+        raise ValueTextError(f"--grid {text!r}: {count:,.0f} values, more than "
+                             f"--max-points {max_points:,}")
+    return name, list(np.linspace(start, stop, int(count)))
+
+
+def _has_unit(text) -> bool:
+    from .parse import ValueTextError, quantity
+    try:
+        return bool(quantity(text)[1])
+    except ValueTextError:
+        return False                    # its own error comes when it is read
 
 
 def _sweep(args):
@@ -466,7 +529,10 @@ def _add_characteristic_command(commands):
 def _animate(args):
     from .animation import animate
     model, scene, params = _scene_inputs(args)
-    result = model.mechanism.simulate(scene, params)
+    with _progress(args) as progress:
+        if progress is not None:
+            progress.t_start = scene.t_start
+        result = model.mechanism.simulate(scene, params, progress=progress)
     film = animate(model.mechanism, result, params, args.out, sample=args.sample,
                    fps=args.fps)
     print(f"wrote {film.path}: {film.frames} frames, every {film.times[1] - film.times[0]:.4g} "
@@ -493,6 +559,7 @@ def _add_animate_command(commands):
     _sample_argument(command)
     command.add_argument("--fps", type=float, default=25.0,
                          help="frames per second of the GIF (default 25)")
+    _progress_argument(command)
     command.set_defaults(run=_animate)
 
 
@@ -542,17 +609,33 @@ def _units_argument(parser):
                         "name), e.g. speed=rpm,power=kW,rope=kN")
 
 
-def _sample_argument(parser):
-    from .parse import number
-
-    def step(text):
-        value = number(text)
-        if not value > 0:
-            raise argparse.ArgumentTypeError(f"{text!r} is not a positive time step")
+def _quantity(unit, what, positive=True):
+    """An argparse type: a value (positive if asked), SI or a text with a unit of
+    ``unit``'s dimension (``"1 ms"`` for seconds)."""
+    def convert(text):
+        from .units import to_si
+        try:
+            value = to_si(text, unit)
+        except MechdynError as error:
+            raise argparse.ArgumentTypeError(str(error)) from None
+        if positive and not value > 0:
+            raise argparse.ArgumentTypeError(f"{text!r} is not a positive {what}")
         return value
-    parser.add_argument("--sample", type=step, metavar="DT",
-                        help="CSV rows and plot points every DT seconds (from the dense "
-                        "output) instead of the solver's steps")
+    convert.__name__ = what
+    return convert
+
+
+def _progress_argument(parser):
+    parser.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
+                        help="show the simulated time on stderr for runs longer than two "
+                        "seconds (default: when stderr is a terminal)")
+
+
+def _sample_argument(parser):
+    parser.add_argument("--sample", type=_quantity("s", "time step"), metavar="DT",
+                        help="CSV rows and plot points every DT seconds (or a time with "
+                        "its unit, '1 ms') from the dense output instead of the solver's "
+                        "steps")
 
 
 # ------------------------------------------------------------- parser and main

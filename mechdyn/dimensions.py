@@ -319,7 +319,10 @@ def check_equations(eqs, mechanism):
 
 
 def check_scene(mechanism, scene):
-    """Stop conditions compare like with like; initial values fit their states."""
+    """Stop conditions compare like with like; initial values fit their states (also
+    those typed with units, :func:`mechdyn.scene_units.check_given`)."""
+    from .scene_units import check_given
+    check_given(mechanism, scene)
     known = _by_name(known_dimensions(mechanism))
     for condition in scene.until:
         try:

@@ -86,7 +86,7 @@ def column_units(result) -> dict:
         units[result.state_names[n + i]] = _per(units[c], "s")
     for c, name in zip(result.coordinates, result.acceleration_names):
         units[name] = _per(units[c], "s^2")
-    for label in result.compiled.output_labels:
+    for label in result.output_labels:
         units[label] = result.units.get(label, "W" if label.startswith("power:") else "")
     return units
 

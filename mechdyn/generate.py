@@ -117,7 +117,7 @@ def generate(eqs, scene, elements) -> tuple:
         "acceleration_names": [str(a) for a in eqs.a],
         "param_names": [s.name for s in params],
         "frictions": [fr.name for fr in frictions],
-        "frozen": [_frozen_index(fr) for fr in frictions],
+        "frozen": [_frozen_index(fr, eqs) for fr in frictions],
         "stop_labels": [label for label, _ in stops],
         "output_labels": [label for label, _ in outputs],
         "terms": layout,
@@ -288,10 +288,16 @@ def _terms_layout(n, mass, forcing, groups):
     return layout, exprs
 
 
-def _frozen_index(friction) -> int:
-    """The coordinate a stuck friction fixes, when its gradient is one constant entry."""
+def _frozen_index(friction, eqs) -> int:
+    """The coordinate a stuck friction fixes, when its gradient is one constant entry:
+    a number, or parameters that are non-zero by their assumptions (a gear ratio
+    ``i``, positive)."""
     nonzero = [i for i, g in enumerate(friction.gradient) if g != 0]
-    if len(nonzero) == 1 and friction.gradient[nonzero[0]].is_number:
+    if len(nonzero) != 1:
+        return -1
+    entry = friction.gradient[nonzero[0]]
+    motion = set(eqs.q) | set(eqs.u) | {t}
+    if entry.is_number or (entry.is_nonzero and not entry.free_symbols & motion):
         return nonzero[0]
     return -1
 

@@ -349,13 +349,14 @@ class Mechanism:
         from .compile import compile_scene
         return compile_scene(self, scene)
 
-    def simulate(self, scene, params=None):
+    def simulate(self, scene, params=None, **options):
         """Integrate a :class:`Scene`; returns a :class:`Result` (its ``units``: the SI
-        unit of each coordinate and output)."""
+        unit of each coordinate and output). ``options``: ``progress``, ``max_steps``,
+        ``max_wall_time``, ``start`` of :func:`mechdyn.simulate.simulate`."""
         from .errors import SimulationError
         from .simulate import simulate
         try:
-            result = simulate(self, scene, params or {})
+            result = simulate(self, scene, params or {}, **options)
         except SimulationError as error:
             if error.partial is not None:
                 self._label_units(error.partial, scene)

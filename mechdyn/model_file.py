@@ -49,7 +49,10 @@ class Model:
     def scene(self, name: str) -> Scene:
         """The scene called ``name``, with a clear error listing the others."""
         if name not in self.scenes:
-            raise ModelFileError(f"{self.path}: no scene {name!r}; scenes: "
+            cycle = "+" in name and all(part in self.scenes for part in name.split("+"))
+            hint = (" (a duty cycle A+B runs with `mechdyn simulate` or md.duty_cycle)"
+                    if cycle else "")
+            raise ModelFileError(f"{self.path}: no scene {name!r}{hint}; scenes: "
                                  f"{', '.join(self.scenes) or 'none'}")
         return self.scenes[name]
 

@@ -41,20 +41,24 @@ def dense_series(result, points=1001, sample=None):
     return times, result.trajectory.at(times), outputs
 
 
-def plot_result(result, path=None, points=400, sample=None, units=None):
-    """Plot a :class:`~mechdyn.result.Result`; save to ``path`` if given.
+def plot_result(result, path=None, points=400, sample=None, units=None, phases=(),
+                title=None):
+    """Plot a :class:`~mechdyn.result.Result` (or a duty cycle's
+    :class:`~mechdyn.cycle_result.CycleResult`); save to ``path`` if given.
 
     Panels, top down: speeds, positions (a panel per unit and scale, so a small
     coordinate is not flattened by a large one), then the requested outputs a panel per
     kind (moments, forces, powers), each axis labelled with its unit (``units``: other
     units to show, see :class:`mechdyn.display.Display`). Events are thin vertical
-    lines labelled in a strip above the axes, clear of the curves.
+    lines labelled in a strip above the axes, clear of the curves; ``phases``
+    (``(name, start, end)`` each) are shaded in turn, their boundaries drawn solid and
+    their names written across the top of the strip.
     """
     from .display import Display, column_units, kind_of
     plt = pyplot()
     shown, si = Display(units), column_units(result)
     shown.check(si)
-    n = result.compiled.dof
+    n = len(result.coordinates)
     t, states, outputs = dense_series(result, points, sample)
 
     def curve(label, column, values):
@@ -71,8 +75,9 @@ def plot_result(result, path=None, points=400, sample=None, units=None):
         kind = kind_of(si[label]) or ("power" if label.startswith("power:") else "output")
         by_kind.setdefault(kind, []).append(curve(label, label, values))
     panels += [(kind, group) for kind, curves in by_kind.items() for group in _groups(curves)]
-    fig = plt.figure(figsize=(8, 2.4 * len(panels) + 1.2))
-    grid = fig.add_gridspec(len(panels) + 1, 1, height_ratios=[0.35] + [1] * len(panels))
+    fig = plt.figure(figsize=(8, 2.4 * len(panels) + 1.2 + 0.3 * bool(phases)))
+    grid = fig.add_gridspec(len(panels) + 1, 1, height_ratios=[0.35 + 0.2 * bool(phases)]
+                            + [1] * len(panels))
     strip = fig.add_subplot(grid[0])
     axes = [fig.add_subplot(grid[k + 1], sharex=strip) for k in range(len(panels))]
     for ax, (name, curves) in zip(axes, panels):
@@ -84,10 +89,26 @@ def plot_result(result, path=None, points=400, sample=None, units=None):
         ax.legend(loc="best", fontsize=8)
     for ax in axes[:-1]:
         ax.tick_params(labelbottom=False)
-    _mark_events(strip, axes, result.events, result.t[0], result.t[-1])
+    _mark_events(strip, axes, result.events, result.t[0], result.t[-1],
+                 rows=(0.25, 0.5) if phases else (0.3, 0.65))
+    _mark_phases(strip, axes, phases)
     axes[-1].set_xlabel("time t [s]")
-    fig.suptitle(f"{result.mechanism_name} — {result.scene.name} ({result.reason})")
+    fig.suptitle(title or f"{result.mechanism_name} — {result.scene.name} ({result.reason})")
     return finish(fig, path)
+
+
+def _mark_phases(strip, axes, phases):
+    """Shade every other phase, draw the boundaries solid, name the phases on top."""
+    for k, (name, start, end) in enumerate(phases):
+        for ax in axes:
+            if k % 2:
+                ax.axvspan(start, end, color="0.93", zorder=-1, lw=0)
+            if k:
+                ax.axvline(start, color="0.35", lw=1.0, zorder=0)
+        if k:
+            strip.axvline(start, ymin=0.72, ymax=1.0, color="0.35", lw=1.0)
+        strip.text((start + end) / 2, 0.97, name, fontsize=8, fontweight="bold",
+                   ha="center", va="top", clip_on=False)
 
 
 def _groups(curves, ratio=20.0):
@@ -106,7 +127,7 @@ def _groups(curves, ratio=20.0):
     return [[c[:3] for c in group] for group in groups]
 
 
-def _mark_events(strip, axes, events, t_start, t_end):
+def _mark_events(strip, axes, events, t_start, t_end, rows=(0.3, 0.65)):
     """A thin line per event time on every axes; the labels in the strip above them.
     Events within 1.5 % of the run share one label; labels alternate between two rows
     so neighbours do not overlap."""
@@ -123,10 +144,10 @@ def _mark_events(strip, axes, events, t_start, t_end):
         for time in dict.fromkeys(e.time for e in cluster):
             for ax in axes:
                 ax.axvline(time, color="grey", lw=0.6, ls="--", zorder=0)
-            strip.axvline(time, ymax=0.25, color="grey", lw=0.6)
+            strip.axvline(time, ymax=rows[0] - 0.05, color="grey", lw=0.6)
         names = ", ".join(dict.fromkeys(f"{e.kind} {e.name}" for e in cluster))
         right = cluster[0].time > t_start + 0.5 * (t_end - t_start)
-        strip.text(cluster[0].time, 0.3 + 0.35 * (k % 2),
+        strip.text(cluster[0].time, rows[k % 2],
                    f"{names} (t = {cluster[0].time:.4g} s)", fontsize=7, va="bottom",
                    ha="right" if right else "left", clip_on=False)
 

@@ -187,9 +187,9 @@ class Result:
 
     def energy(self):
         """Kinetic and potential energy at the step points: ``(T, V)`` arrays."""
-        values = np.array([self.compiled.energy(self.t[j], self.y[:, j], self._base
-                                                + [0.0] * len(self.compiled.frictions))
-                           for j in range(len(self.t))]).T
+        def evaluate(t, y, owner):          # the mode's vector: switch flags included
+            return self.compiled.energy(t, y, self._modes.p(self.trajectory.segments[owner].mode))
+        values = self._each_point(evaluate).reshape(2, -1)
         return values[0], values[1]
 
     # ----------------------------------------------------------------- export
@@ -212,20 +212,12 @@ class Result:
 
     def sample_times(self, sample) -> np.ndarray:
         """``t_0, t_0 + sample, ...`` up to the end of the run (and the end itself)."""
-        sample = float(sample)
-        first, last = float(self.t[0]), float(self.t[-1])
-        if not sample > 0 or not np.isfinite(sample):
-            raise MechdynError(f"sample = {sample}: give a positive time step")
-        count = int(np.floor((last - first) / sample * (1 + 1e-12))) + 1
-        if count > 10_000_000:
-            raise MechdynError(f"sample = {sample} s gives {count} rows over "
-                               f"{last - first:.6g} s; choose a larger step")
-        steps = np.arange(count)
-        per_second = round(1 / sample)          # 0.001 s: t = k / 1000, exactly rounded
-        times = first + (steps / per_second if per_second and
-                         abs(1 / sample - per_second) <= 1e-9 * per_second else steps * sample)
-        return times if last - times[-1] <= 1e-9 * max(sample, abs(last)) else \
-            np.append(times, last)
+        return sample_times(float(self.t[0]), float(self.t[-1]), sample)
+
+    @property
+    def output_labels(self) -> list:
+        """The labels of the requested outputs."""
+        return list(self.compiled.output_labels)
 
     def to_csv(self, path, sample=None, units=None):
         """Write one column per series and a header row of names: the step points, or
@@ -335,3 +327,20 @@ class Result:
         ``path`` (PNG, SVG, PDF by its suffix) and returns the matplotlib figure."""
         from .plotting import plot_result
         return plot_result(self, path, points, sample=sample, units=units)
+
+
+def sample_times(first, last, sample) -> np.ndarray:
+    """``first, first + sample, ...`` up to ``last`` (and ``last`` itself)."""
+    sample = float(sample)
+    if not sample > 0 or not np.isfinite(sample):
+        raise MechdynError(f"sample = {sample}: give a positive time step")
+    count = int(np.floor((last - first) / sample * (1 + 1e-12))) + 1
+    if count > 10_000_000:
+        raise MechdynError(f"sample = {sample} s gives {count} rows over "
+                           f"{last - first:.6g} s; choose a larger step")
+    steps = np.arange(count)
+    per_second = round(1 / sample)          # 0.001 s: t = k / 1000, exactly rounded
+    times = first + (steps / per_second if per_second and
+                     abs(1 / sample - per_second) <= 1e-9 * per_second else steps * sample)
+    return times if last - times[-1] <= 1e-9 * max(sample, abs(last)) else \
+        np.append(times, last)

@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 import sympy as sp
 
 from .elements import Link, as_expression, is_structural
-from .errors import SceneError
+from .errors import MechdynError, SceneError
 from .symbols import is_coordinate, t
 
 __all__ = ["Scene", "StopCondition", "stopped", "reaches", "selection", "DEFAULT_RTOL",
@@ -32,11 +32,14 @@ MIN_RTOL = 100 * sys.float_info.epsilon      # scipy's solve_ivp floor (2.2e-14)
 @dataclass(frozen=True)
 class StopCondition:
     """Stop when ``expression`` reaches ``value`` (crossing in ``direction``: +1 rising,
-    -1 falling, 0 either way)."""
+    -1 falling, 0 either way). ``given``: the value as typed with a unit (``"20 mm"``;
+    ``value`` holds it in SI), checked against the expression's unit when the mechanism
+    is known (:mod:`mechdyn.scene_units`)."""
     expression: sp.Expr
     value: sp.Expr = sp.S.Zero
     direction: int = 0
     label: str = ""
+    given: str = ""
 
     def __repr__(self):
         return self.label
@@ -51,11 +54,39 @@ def stopped(q) -> StopCondition:
 
 def reaches(expression, value, direction=0, label=None) -> StopCondition:
     """Stop when ``expression`` (of coordinates, speeds, t, parameters) reaches ``value``;
-    ``label`` names the condition in results (default: the condition written out)."""
+    ``label`` names the condition in results (default: the condition written out).
+
+    ``value`` may be a text with a unit, ``"20 mm"``, ``"1425 rpm"``: it is converted
+    to SI here and its dimension checked against the expression's when the scene runs.
+
+    >>> import mechdyn as md
+    >>> h = md.coordinate("h")
+    >>> condition = md.reaches(h, "20 mm")
+    >>> float(condition.value), condition.label
+    (0.02, 'reaches(h, 20 mm)')
+    """
     expression = as_expression(expression, "reaches(): expression")
+    given = ""
+    if isinstance(value, str):
+        given = " ".join(value.split())
+        value = sp.Float(_si(value, f"reaches({_readable(expression)}, ...)", None))
     value = as_expression(value, "reaches(): value")
     return StopCondition(expression, value, int(direction),
-                         label or f"reaches({_readable(expression)}, {_readable(value)})")
+                         label or f"reaches({_readable(expression)}, "
+                         f"{given or _readable(value)})", given)
+
+
+def _si(text, what, unit):
+    """The SI value of ``text`` (a number with an optional unit), or a SceneError naming
+    ``what``."""
+    from .units import to_si
+    try:
+        return to_si(text, unit)
+    except MechdynError as error:
+        message = str(error)
+        if not message.startswith(repr(text)):
+            message = f"{text!r}: {message}"
+        raise SceneError(f"{what}: {message}") from None
 
 
 def _readable(expr) -> str:
@@ -80,11 +111,15 @@ class Scene:
         ``None`` includes every element. Links are always included.
     initial : dict
         Initial values of coordinates and speeds (``md.speed(q)``); missing ones are an
-        error, values may be numbers or expressions of parameters.
+        error, values may be numbers (SI), expressions of parameters, or texts with a
+        unit (``"1500 rpm"``, ``"20 mm"``): converted to SI here, their dimension
+        checked against the coordinate's unit (its speed's: unit/s) when the scene runs.
     until : StopCondition or list of them, optional
         Stop at the first one met (``md.stopped``, ``md.reaches``).
-    t_end : float, optional
-        End time; required without ``until`` (defaults to 1000 s with it).
+    t_end : float or str, optional
+        End time; required without ``until`` (defaults to 1000 s with it). Times
+        (``t_end``, ``t_start``, ``max_wall_time``) are seconds, or texts with a unit
+        of time converted here (``"2 min"``).
     outputs : list or dict, optional
         Element names (their generalized force along their own coordinate, e.g. a
         spring's moment), ``"power:NAME"``, or expressions to record; a dict names
@@ -125,8 +160,10 @@ class Scene:
     max_steps: int | None = DEFAULT_MAX_STEPS
     max_wall_time: float | None = None
     backend: str = "auto"
+    given: dict = field(default_factory=dict, repr=False, compare=False)
 
     def __post_init__(self):
+        self._convert_initial_texts()
         if self.effects is not None:
             effects = (self.effects,) if isinstance(self.effects, str) else tuple(self.effects)
             object.__setattr__(self, "effects", effects)
@@ -154,11 +191,11 @@ class Scene:
         for label in labels:
             if labels.count(label) > 1:
                 raise SceneError(f"scene {self.name!r}: two outputs are labelled {label!r}")
-        object.__setattr__(self, "t_start", self._number("t_start", self.t_start))
+        object.__setattr__(self, "t_start", self._time("t_start", self.t_start))
         if self.t_end is None and not until:
             raise SceneError(f"scene {self.name!r}: give t_end or a stop condition (until=)")
         if self.t_end is not None:
-            object.__setattr__(self, "t_end", self._number("t_end", self.t_end))
+            object.__setattr__(self, "t_end", self._time("t_end", self.t_end))
             if not self.t_end > self.t_start:
                 raise SceneError(f"scene {self.name!r}: t_end = {self.t_end} must be later "
                                  f"than the start {self.t_start}")
@@ -178,11 +215,36 @@ class Scene:
         if self.backend not in ("auto", "scipy", "compiled"):
             raise SceneError(f"scene {self.name!r}: backend {self.backend!r}: use 'auto', "
                              "'scipy' or 'compiled'")
-        for name in ("max_steps", "max_wall_time"):
-            value = getattr(self, name)
-            if value is not None:
-                number = self._number(name, value, positive=True)
-                object.__setattr__(self, name, int(number) if name == "max_steps" else number)
+        if self.max_steps is not None:
+            object.__setattr__(self, "max_steps",
+                               int(self._number("max_steps", self.max_steps, positive=True)))
+        if self.max_wall_time is not None:
+            object.__setattr__(self, "max_wall_time",
+                               self._time("max_wall_time", self.max_wall_time, positive=True))
+
+    def _convert_initial_texts(self):
+        """Initial values typed with a unit become SI floats; the texts are kept in
+        ``given`` (state -> text) for the dimension check against the mechanism."""
+        if not isinstance(self.initial, dict):
+            raise SceneError(f"scene {self.name!r}: initial must be a dict {{q: value, "
+                             f"md.speed(q): value}}, got {type(self.initial).__name__}")
+        initial = dict(self.initial)
+        given = {key: text for key, text in self.given.items()    # kept through replace()
+                 if isinstance(initial.get(key), float)}
+        for key, value in self.initial.items():
+            if isinstance(value, str):
+                given[key] = " ".join(value.split())
+                shown = _readable(key) if isinstance(key, sp.Basic) else repr(key)
+                initial[key] = _si(value, f"scene {self.name!r}: initial value of {shown}",
+                                   None)
+        object.__setattr__(self, "initial", initial)
+        object.__setattr__(self, "given", given)
+
+    def _time(self, field_name, value, positive=False) -> float:
+        """A time: a number of seconds or a text with a unit of time."""
+        if isinstance(value, str):
+            value = _si(value, f"scene {self.name!r}: {field_name}", "s")
+        return self._number(field_name, value, positive)
 
     def labelled_outputs(self) -> list:
         """``(label, item)`` for each output: the dict's names, else the element name,

@@ -38,15 +38,18 @@ from .result import Result
 from .scene import DEFAULT_ATOL, Scene
 from .stepping import METHODS
 
-__all__ = ["simulate", "initial_state", "atol_vector", "choose_method", "METHODS"]
+__all__ = ["simulate", "initial_state", "given_initial", "atol_vector", "choose_method",
+           "METHODS"]
 
 
 def simulate(mechanism, scene: Scene, params: dict, *, progress=None, max_steps=None,
-             max_wall_time=None, backend=None) -> Result:
+             max_wall_time=None, backend=None, start=None) -> Result:
     """Integrate ``scene`` on ``mechanism`` with parameter values ``params``.
 
     ``progress(t, t_end)`` is called about every quarter second of a run;
-    ``max_steps``, ``max_wall_time`` and ``backend`` override the scene's. Raises
+    ``max_steps``, ``max_wall_time`` and ``backend`` override the scene's; ``start``, a
+    state ``[q..., u...]`` in the compiled order, replaces the scene's initial values (a
+    later phase of a duty cycle, :mod:`mechdyn.cycle`). Raises
     :class:`SimulationError` (with ``.partial``, the result up to the failure) when the
     integration fails on every method it may use, or exceeds its budget.
     """
@@ -55,7 +58,16 @@ def simulate(mechanism, scene: Scene, params: dict, *, progress=None, max_steps=
     compiled = compile_scene(mechanism, scene)
     values = ParameterSet(params, mechanism=mechanism, scene=scene)
     base = values.vector(compiled.param_names)
-    y0 = initial_state(compiled, mechanism, scene, values.numbers)
+    if start is None:
+        y0 = initial_state(compiled, mechanism, scene, values.numbers)
+    else:
+        from .scene_units import check_given
+        check_given(mechanism, scene)                 # its stop values' units
+        y0 = np.array(start, dtype=float)
+        if y0.shape != (2 * compiled.dof,) or not np.all(np.isfinite(y0)):
+            raise SceneError(f"scene {scene.name!r}: start must hold {2 * compiled.dof} "
+                             f"finite values ({', '.join(compiled.state_names)}), got "
+                             f"{list(start)!r}")
     atol = atol_vector(compiled, mechanism, scene)
     if scene.method != "auto" and scene.method not in (*METHODS, *KERNEL_ONLY):
         raise SceneError(f"scene {scene.name!r}: unknown method {scene.method!r}; "
@@ -67,8 +79,11 @@ def simulate(mechanism, scene: Scene, params: dict, *, progress=None, max_steps=
 
 
 # --------------------------------------------------------------------- inputs
-def initial_state(compiled, mechanism, scene, params) -> np.ndarray:
-    """The scene's initial state vector ``[q..., u...]``, checked and evaluated."""
+def given_initial(compiled, mechanism, scene, params) -> dict:
+    """The initial values ``scene`` gives, evaluated: state index (in ``[q..., u...]``
+    of ``compiled``) -> float; values of coordinates made rigid are left out."""
+    from .scene_units import check_given
+    check_given(mechanism, scene)
     n = compiled.dof
     declared = {q.func.__name__ for q in mechanism.coordinates}
     slots = {}
@@ -76,7 +91,7 @@ def initial_state(compiled, mechanism, scene, params) -> np.ndarray:
         slots[("q", name)] = i
         slots[("u", name)] = n + i
     values = {str(k): v for k, v in params.items()}
-    y0 = np.full(2 * n, np.nan)
+    given = {}
     for key, value in scene.initial.items():
         slot = _initial_slot(key, declared, scene)
         if slot[1] not in compiled.coordinates:
@@ -89,12 +104,22 @@ def initial_state(compiled, mechanism, scene, params) -> np.ndarray:
                                  f"no number (unknown: {sorted(map(str, expr.free_symbols))})")
             value = expr
         try:
-            y0[slots[slot]] = float(value)
+            number = float(value)
         except (TypeError, ValueError):
             raise SceneError(f"scene {scene.name!r}: initial value of {key} = {value!r} is "
                              "not a number") from None
-        if not math.isfinite(y0[slots[slot]]):
+        if not math.isfinite(number):
             raise SceneError(f"scene {scene.name!r}: initial value of {key} is not finite")
+        given[slots[slot]] = number
+    return given
+
+
+def initial_state(compiled, mechanism, scene, params) -> np.ndarray:
+    """The scene's initial state vector ``[q..., u...]``, checked and evaluated."""
+    n = compiled.dof
+    y0 = np.full(2 * n, np.nan)
+    for index, value in given_initial(compiled, mechanism, scene, params).items():
+        y0[index] = value
     # Closed loops: dependent speeds are solved, dependent positions are guesses.
     solved = [n + i for i in range(n) if compiled.constraints and i not in compiled.independent]
     missing = [compiled.state_names[i] for i in range(2 * n)
@@ -102,9 +127,11 @@ def initial_state(compiled, mechanism, scene, params) -> np.ndarray:
     if missing:
         guesses = (" and a guess for each dependent coordinate, which picks the assembly "
                    "branch" if solved else "")
+        phase = ("; a scene without initial values runs as a later phase of a duty "
+                 "cycle, e.g. --scene startup+" + scene.name) if not scene.initial else ""
         raise SceneError(f"scene {scene.name!r}: missing initial values for "
                          f"{', '.join(missing)} (give them in initial={{q: ..., "
-                         f"md.speed(q): ...}}{guesses})")
+                         f"md.speed(q): ...}}{guesses}){phase}")
     if compiled.constraints:
         from .assembly import assemble
         return assemble(compiled, y0, compiled.parameter_vector(params), scene.t_start,

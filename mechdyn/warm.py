@@ -129,6 +129,8 @@ def recall(name, progress=None):
         return None                    # an entry of another shape: the cold path rebuilds it
     from .driver import Driver
     from .run_checks import Budget
+    if progress is not None and hasattr(progress, "t_start"):
+        progress.t_start = scene.t_start
     driver = Driver(compiled, record["base"], scene, atol, mechanism,
                     Budget(scene.max_steps, scene.max_wall_time), progress)
     result = driver.run(np.array(record["y0"]))

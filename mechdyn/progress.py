@@ -1,0 +1,69 @@
+"""A progress line for long runs on the command line: the simulated time of the end
+time and the percentage, rewritten in place on stderr, cleared when the run ends.
+
+The simulation driver calls its ``progress(t, t_end)`` about every quarter second; the
+line appears only once a run has taken ``delay`` seconds (2 by default), so short runs
+print nothing. A duty cycle (:func:`mechdyn.cycle.duty_cycle`) announces each phase
+through :meth:`ProgressLine.phase`, and the line counts that phase's time.
+
+>>> import io
+>>> ticks = iter([0.0, 3.0, 3.5])                 # a clock: start, then two reports
+>>> stream = io.StringIO()
+>>> with ProgressLine(stream, clock=lambda: next(ticks)) as line:
+...     line(5.0, 20.0)
+...     line(10.0, 20.0)
+>>> stream.getvalue().split("\\r")[1:]
+['mechdyn: t = 5 s of 20 s (25 %)', 'mechdyn: t = 10 s of 20 s (50 %)', '                                ', '']
+"""
+from __future__ import annotations
+
+import sys
+import time
+
+__all__ = ["ProgressLine"]
+
+
+class ProgressLine:
+    """``progress(t, t_end)`` writing one line to ``stream`` (stderr), rewritten with a
+    carriage return; ``delay``: seconds of a run before the line appears; ``clock``:
+    the time source (``time.monotonic``); ``t_start``: the run's start time (the
+    percentage counts from it). Use it as a context manager: the line is cleared on
+    leaving, also after an error."""
+
+    def __init__(self, stream=None, delay=2.0, clock=None):
+        self.stream = stream if stream is not None else sys.stderr
+        self.delay = delay
+        self.clock = clock or time.monotonic
+        self.started = self.clock()
+        self.width = 0
+        self.label, self.t_start = "", 0.0
+
+    def phase(self, name, number, count, t_start):
+        """A duty cycle's phase ``number`` of ``count`` starts at time ``t_start``."""
+        self.label, self.t_start = f"phase {number}/{count} {name}: ", t_start
+
+    def __call__(self, t, t_end):
+        if self.clock() - self.started < self.delay:
+            return
+        begin = self.t_start
+        span = t_end - begin
+        share = (t - begin) / span if span > 0 else 1.0
+        text = (f"mechdyn: {self.label}t = {t:.4g} s of {t_end:.4g} s "
+                f"({100 * min(max(share, 0.0), 1.0):.0f} %)")
+        self.stream.write("\r" + text.ljust(self.width))
+        self.stream.flush()
+        self.width = max(self.width, len(text))
+
+    def clear(self):
+        """Blank the line (if one was written) and return to its start."""
+        if self.width:
+            self.stream.write("\r" + " " * self.width + "\r")
+            self.stream.flush()
+            self.width = 0
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.clear()
+        return False
