@@ -95,13 +95,13 @@ def _run_scene_or_cycle(args, progress):
     """The result of ``--scene NAME``, or of the duty cycle ``--scene A+B+C``; the same
     single-scene command as before runs from the warm start (:mod:`mechdyn.warm`)."""
     from . import warm
-    from .model_file import load_model
-    from .parse import assignment
     name = None if "+" in args.scene else warm.entry_name(args.model, args.scene, args.param)
     result = warm.recall(name, progress)       # no model file, no sympy
     if result is not None:
         return result
     before = set(sys.modules)
+    from .model_file import load_model
+    from .parse import assignment
     model = load_model(args.model)
     if "+" in args.scene and args.scene not in model.scenes:
         from .cycle import duty_cycle

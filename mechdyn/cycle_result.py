@@ -20,7 +20,6 @@ import numpy as np
 from .errors import MechdynError
 from .events import Event
 from .result import sample_times
-from .symbols import dotted_symbol
 
 __all__ = ["CycleResult", "Phase", "PhaseEnergy"]
 
@@ -99,6 +98,7 @@ class CycleResult:
         self.mechanism_name, self.phases = mechanism_name, list(phases)
         first = self.phases[0].result
         self.state_names, self.coordinates = first.state_names, first.coordinates
+        self.acceleration_names = first.acceleration_names
         self.t = np.concatenate([p.result.t + p.offset for p in self.phases])
         self.y = np.hstack([p.result.y for p in self.phases])
         self.output_labels = list(dict.fromkeys(label for p in self.phases
@@ -220,7 +220,7 @@ class CycleResult:
     def columns(self, sample=None) -> dict:
         """All series by column: ``t``, ``phase`` (its name), states, accelerations,
         outputs; at the step points, or every ``sample`` seconds of cycle time."""
-        accelerations = [str(dotted_symbol(c, 2)) for c in self.coordinates]
+        accelerations = list(self.acceleration_names)
         if sample is None:
             t, phase = self.t, np.concatenate([[p.name] * len(p.result.t)
                                                for p in self.phases]).astype(object)
