@@ -33,7 +33,6 @@ from __future__ import annotations
 import itertools
 import math
 
-import numpy as np
 import sympy as sp
 
 from .loop_numeric import (LOOP_MARGIN, PIVOT_FLOOR, LoopSingularError, loop_solve,

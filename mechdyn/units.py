@@ -23,7 +23,6 @@ array([1500.])
 """
 from __future__ import annotations
 
-import json
 import math
 from fractions import Fraction
 
