@@ -22,6 +22,7 @@ import time
 import numpy as np
 
 from .compile import SingularMassError
+from .contacts import jump
 from .errors import SimulationError
 from .events import Event, EventWatch
 from .friction import FrictionModes, Mode
@@ -59,7 +60,7 @@ class Driver:
         self.c, self.base, self.scene, self.atol = compiled, list(base), scene, atol
         self.auto = method == "auto"
         self.method = method
-        self.modes = FrictionModes(compiled, base)
+        self.modes = FrictionModes(compiled, base, scene.time_limit - scene.t_start)
         self.mechanism_name, self.units = mechanism.name, mechanism.units
         self.budget = budget or Budget()
         self.progress = progress
@@ -85,8 +86,9 @@ class Driver:
         try:
             self._check_mass(t, y)
             muted, instant, count = set(), None, 0
+            y, touching, resting = jump(self.modes, t, y, None, (), self.events)
             mode = self.modes.decide(t, y, self._flags(t, y, Mode(), muted),
-                                     events=self.events)
+                                     at_rest=resting, events=self.events, touching=touching)
             y = self.modes.project(t, y, mode)
             method, why = self._choose(mode, t, y)
             h = None
@@ -194,13 +196,13 @@ class Driver:
         muted for chattering: unlocked) and the friction events of the mode. A switching
         function is watched from the side its flag locks, so a flag that is wrong at the
         start fires at once."""
-        friction = self.modes.watched(mode)
+        friction = self.modes.watched(mode, t0, y0)
         compiled_events = self.c.raw["events"]
         size = len(self.c.event_kinds)
         chosen = self.stop_index + [i for i in self.switch_index if i not in muted]
         directions = self.stop_directions + [0] * (len(chosen) - len(self.stop_index))
         zero_before = [False] * len(chosen)
-        directions += [d for _, _, d in friction]
+        directions += [direction for _, _, direction, _ in friction]
         zero_before += [True] * len(friction)
         minor = self.loops.watched_minor(t0, y0, p)        # closed loops' singularity
         if minor is not None:
@@ -238,10 +240,11 @@ class Driver:
         stops = [i for source, i in kinds if source == "compiled" and i in self.stop_index]
         switches = {i for source, i in kinds if source == "compiled" and i in self.switch_index}
         muted = self._chattering(t, switches, muted)
-        sticking = [self._friction_watched[j][1] for source, j in kinds
-                    if source == "friction" and self._friction_watched[j][0] == "stick"]
-        new_mode = self.modes.decide(t, y, self._flags(t, y, mode, muted), at_rest=sticking,
-                                     events=self.events)
+        sticking, arrived = self._friction_events(kinds)
+        y, touching, resting = jump(self.modes, t, y, mode, arrived, self.events)
+        new_mode = self.modes.decide(t, y, self._flags(t, y, mode, muted),
+                                     at_rest=sticking + sorted(resting), events=self.events,
+                                     touching=touching)
         for k in sticking:
             if k in new_mode.stuck:
                 self.events.append(Event(t, "stick", self.c.frictions[k],
@@ -256,6 +259,14 @@ class Driver:
             self.events.append(Event(t, "end", label, "stop condition met"))
             return label, new_mode, y, muted
         return None, new_mode, y, muted
+
+    def _friction_events(self, kinds):
+        """The frictions whose sliding speed reached zero and the stop limits reached
+        (element indices of the friction modes) among the fired events."""
+        fired = [self._friction_watched[j] for source, j in kinds if source == "friction"]
+        sticking = [index for kind, index, _, _ in fired if kind == "stick"]
+        arrived = [self.modes.k + index for kind, index, _, _ in fired if kind == "gap"]
+        return sticking, arrived
 
     def _flags(self, t, y, mode, muted):
         """The side of each switching function at ``(t, y)``; one that is exactly zero

@@ -26,7 +26,6 @@ import sympy as sp
 
 import mechdyn as md
 
-needs = "static peak friction: friction(..., peak=1.1) (Clutch.peak)"
 
 phi = md.coordinates("phi_1 phi_2 phi_3 phi_4")
 mu, fn_max, peak, cgeo = sp.symbols("mu fn_max peak cgeo", positive=True)

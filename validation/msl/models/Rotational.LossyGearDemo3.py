@@ -26,7 +26,6 @@ import sympy as sp
 
 import mechdyn as md
 
-needs = "lossy gear: lossy_gear(...) (LossyGear: efficiency by power-flow direction, locking)"
 
 phi_a, phi_b = md.coordinates("phi_a phi_b")
 t = md.t

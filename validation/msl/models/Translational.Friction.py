@@ -41,8 +41,6 @@ import sympy as sp
 
 import mechdyn as md
 
-needs = ("static peak friction: friction(..., peak=1.001) (MassWithStopAndFriction "
-         "f0_max); hard stop with velocity reset: stop(..., lower=, upper=) (stop2)")
 
 s_1, s_m, s_2 = md.coordinates("s_1 s_m s_2")
 t = md.t
