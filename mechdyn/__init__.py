@@ -20,6 +20,8 @@ from .mechanism import Mechanism
 from .model_file import Model, load_model
 from .scene import Scene, reaches, stopped
 from .symbols import acceleration, coordinate, coordinates, plain, speed, t
+from .tables import Table, table
+from .unilateral import LossyGear, OneWayClutch, Stop
 
 # Public names loaded on first use: name -> module.
 _LAZY = {
@@ -49,6 +51,7 @@ _LAZY_MODULES = {"reduction", "units"}
 
 __all__ = [
     "motors", "Mechanism", "Link", "Load", "Spring", "Damper", "Gravity", "Friction",
+    "OneWayClutch", "Stop", "LossyGear", "table", "Table",
     "Scene", "stopped", "reaches", "Model", "load_model",
     "t", "coordinate", "coordinates", "speed", "acceleration", "plain",
     "MechdynError", "MechdynWarning", "DeclarationError", "DerivationError", "SceneError",

@@ -54,11 +54,14 @@ def solve(view, mode, hint=None) -> Solution:
     loop_rows, loop_bias = view.terms["constraint_gradient"], view.terms["constraint_bias"]
     leaders = [group[0][0] for group in mode.groups]
     group_rows = view.gradients[leaders].reshape(-1, n)
-    sliding = [i for i, (_, k, _) in enumerate(view.gears) if mode.signs and mode.signs[k]]
+    sliding = [i for i, (_, k, _) in enumerate(view.gears) if mode.signs and mode.signs[k]] \
+        if view.gears else []
     m_l, m_g = len(loop_rows), len(group_rows)
     if not sliding and not m_l and not m_g:
         return Solution(np.linalg.solve(view.mass, view.forcing), np.zeros(0), np.zeros(0),
                         {}, {})
+    if not sliding:
+        return _linear_solve(view, mode, loop_rows, loop_bias, group_rows, leaders, (), {}, {})
     laws = {i: view.law(i) for i in sliding}
     choice = {i: (hint or {}).get(i, 0) for i in sliding}
     options = [choice] + [dict(zip(sliding, lines)) for lines in
@@ -83,10 +86,11 @@ def _linear_solve(view, mode, loop_rows, loop_bias, group_rows, leaders, sliding
     system, right = np.zeros((size, size)), np.zeros(size)
     system[:n, :n] = view.mass
     right[:n] = view.forcing
-    rows = np.vstack([loop_rows.reshape(-1, n), group_rows])
+    rows = np.concatenate([loop_rows, group_rows]) if m_l else group_rows
     system[:n, n:n + m_l + m_g] = -rows.T
     system[n:n + m_l + m_g, :n] = rows
-    right[n:n + m_l + m_g] = -np.concatenate([loop_bias, view.biases[leaders]])
+    right[n:n + m_l] = -loop_bias
+    right[n + m_l:n + m_l + m_g] = -view.biases[leaders]
     for j, i in enumerate(sliding):
         name, k, c = view.gears[i]
         row, sign = n + m_l + m_g + j, mode.signs[k]

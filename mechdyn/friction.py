@@ -85,10 +85,10 @@ class StateView:
         n, k, c = modes.n, modes.k, modes.contacts
         self.n, self.terms, self.gears, self.kinds = n, terms, modes.gears, modes.kinds
         self.mass, self.forcing = terms["mass"], terms["forcing"]
-        self.gradients = np.vstack([terms["friction_gradient"].reshape(k, n),
-                                    terms["contact_gradient"].reshape(c, n)])
-        self.rates = np.concatenate([terms["friction_rate"], terms["contact_rate"]])
-        self.biases = np.concatenate([terms["friction_bias"], terms["contact_bias"]])
+        self.gradients, self.rates, self.biases = (
+            terms[f"friction_{part}"] if not c else
+            np.concatenate([terms[f"friction_{part}"], terms[f"contact_{part}"]])
+            for part in ("gradient", "rate", "bias"))
         self.magnitude, self.peak = terms["friction_magnitude"], terms["friction_peak"]
         self.release, self.gaps = terms["friction_release"], terms["contact_gap"]
 

@@ -61,8 +61,9 @@ def generate(eqs, scene, elements) -> tuple:
         ("law", [e for g in gears for e in g.law]))}
     mass_matrix = switches.lock(eqs.mass_matrix)
     forcing = switches.lock(eqs.smooth_forcing)
-    for sign, fr in zip(signs, frictions):      # a magnitude below zero pushes nothing
-        forcing = forcing - sign * switches.lock(sp.Max(fr.magnitude, 0)) * fr.gradient
+    for sign, fr, magnitude in zip(signs, frictions, magnitudes):
+        # a magnitude below zero pushes nothing: max(m, 0) is continuous, not a switch
+        forcing = forcing - sign * sp.Max(magnitude, 0) * fr.gradient
     output_exprs = [switches.lock(friction_signed(e, eqs, signs)) for _, e, _ in outputs]
     flags = switches.flags
     periods = _forcing_periods([forcing] + magnitudes, set(eqs.q) | set(eqs.u))
@@ -200,7 +201,8 @@ class Switches:
 
     def _locked(self, e):
         if isinstance(e, sp.Piecewise):
-            return sp.Piecewise(*[(value, self._condition(c)) for value, c in e.args])
+            return sp.Piecewise(*[(value, self._condition(c)) for value, c in e.args],
+                                evaluate=False)
         if isinstance(e, (sp.Min, sp.Max)):
             *rest, last = e.args
             chosen = last
@@ -232,11 +234,13 @@ class Switches:
         return sp.Or(sp.And(sp.Eq(flag, 0), condition), sp.And(sp.Ne(flag, 0), locked))
 
     def _flag(self, g):
-        for flag, f in zip(self.flags, self.functions):
-            if sp.expand(g - f) == 0:
-                return flag, 1
-            if sp.expand(g + f) == 0:
-                return flag, -1
+        """The flag of the (expanded) switching function ``g`` or of ``-g``, found by
+        their canonical forms (one lookup each, whatever the number of switches)."""
+        known = self.__dict__.setdefault("_known", {})
+        for key, orientation in ((g, 1), (sp.expand(-g), -1)):
+            if key in known:
+                return self.flags[known[key]], orientation
+        known[g] = len(self.functions)
         self.functions.append(g)
         self.flags.append(sp.Symbol(f"w{len(self.flags)}", real=True))
         return self.flags[-1], 1
