@@ -153,6 +153,13 @@ class Equations:
         return total
 
     @property
+    def switching(self) -> tuple:
+        """Names of the elements whose modes switch at run time: frictions, one-way
+        clutches, lossy gears, stops."""
+        stops = [c.element for c in self.contacts]
+        return tuple(fr.name for fr in self.frictions) + tuple(dict.fromkeys(stops))
+
+    @property
     def eqs(self) -> list:
         """The equations as a list of ``sp.Eq(sum_j M_ij a_j, f_i)``."""
         lhs = self.mass_matrix * sp.Matrix(self.a)
