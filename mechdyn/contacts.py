@@ -13,8 +13,9 @@ through an impact and sticks again if the new speeds allow.
 A bouncing contact (``e > 0``) under a load that pushes it back would bounce
 infinitely often before it comes to rest, in the finite time ``2 e v / ((1 - e) a)``
 (``v`` its speed into the stop, ``a`` the acceleration towards it): once that time is
-below ``1e-9`` of the run the impact is taken as plastic and the contact rests, so a
-run has a finite number of events.
+below ``1e-9`` of the run, or the next bounce would rise less than ``1e-12`` of the
+coordinates' size (``(e v)^2 / (2 a)``: below what positions resolve), the impact is
+taken as plastic and the contact rests, so a run has a finite number of events.
 
 >>> import mechdyn as md
 >>> x = md.coordinate("x")
@@ -26,8 +27,9 @@ run has a finite number of events.
 >>> first = [e for e in res.events if e.kind == "impact"][0]
 >>> round(first.time, 9), round(first.value, 9)        # t = 1 s, impulse 1.5 * 10
 (1.0, 15.0)
->>> abs(res.final(x)) < 1e-12, res.events[-1].kind, round(res.events[-1].time, 6)
-(True, 'contact', 3.0)
+>>> rest = res.events[-1]                 # bounces of 5, 2.5, ... m/s end at t = 3 s
+>>> rest.kind, abs(rest.time - 3.0) < 1e-5, abs(res.final(x)) < 1e-12
+('contact', True, True)
 """
 from __future__ import annotations
 
@@ -39,6 +41,7 @@ from .events import Event
 __all__ = ["jump", "ZENO"]
 
 ZENO = 1e-9              # bounces ending within this fraction of the run: plastic
+_HEIGHT = 1e-12          # ... or rising less than this x (1 + largest coordinate)
 _AT_REST = 1e-12         # as in friction.py: speeds below this x (1 + largest) are rest
 _START = 1e-10           # a limit this close (x (1 + largest coordinate)) at the start
 
@@ -118,6 +121,7 @@ def _targets(modes, t, y, view, mode, hitting, rest) -> dict:
     from .friction import Mode
     restitution = view.terms["contact_restitution"]
     accelerations = modes.solve(view, mode or Mode()).a
+    height_floor = _HEIGHT * (1.0 + float(np.max(np.abs(y[:modes.n]), initial=0.0)))
     out = {}
     for e in hitting:
         e_value = float(restitution[e - modes.k]) if e >= modes.k else 0.0
@@ -125,7 +129,8 @@ def _targets(modes, t, y, view, mode, hitting, rest) -> dict:
         toward = -(float(view.gradients[e] @ accelerations) + float(view.biases[e]))
         if 0 < e_value < 1 and toward > 0:
             remaining = 2 * e_value * speed / ((1 - e_value) * toward)
-            if remaining < ZENO * modes.span:
+            height = (e_value * speed) ** 2 / (2 * toward)
+            if remaining < ZENO * modes.span or height < height_floor:
                 e_value = 0.0
         if e_value * speed <= rest:
             e_value = 0.0
