@@ -217,8 +217,8 @@ class Friction(Element):
         self._expr("peak")
         if self.peak.is_number and not self.peak >= 1:
             raise DeclarationError(f"{type(self).__name__.lower()} {self.name!r}: peak = "
-                                   f"{self.peak} must be at least 1 (static friction is "
-                                   "never below sliding friction)")
+                                   f"{float(self.peak):g} must be at least 1 (static "
+                                   "friction is never below sliding friction)")
 
     def expressions(self):
         out = {"moment": self.moment, "along": self.along}

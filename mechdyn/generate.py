@@ -48,6 +48,7 @@ def generate(eqs, scene, elements) -> tuple:
     """Metadata and generated source for the equations ``eqs`` of ``scene``
     (``elements``: the mechanism's elements by name, for outputs)."""
     n, frictions = eqs.dof, eqs.frictions
+    state = set(eqs.q) | set(eqs.u) | {t}
     outputs = scene_outputs(eqs, scene, elements)
     stops = [] if scene is None else [
         (repr(c), eqs.to_plain(c.expression - c.value)) for c in scene.until]
@@ -138,11 +139,11 @@ def generate(eqs, scene, elements) -> tuple:
         "state_names": state_names,
         "param_names": [s.name for s in params],
         "frictions": [fr.name for fr in frictions],
-        "frozen": [_frozen_index(fr) for fr in frictions],
+        "frozen": [_frozen_index(fr, state) for fr in frictions],
         "friction_kinds": [fr.kind for fr in frictions],
         "contacts": [c.name for c in contacts],
         "contact_elements": [c.element for c in contacts],
-        "contact_frozen": [_frozen_index(c) for c in contacts],
+        "contact_frozen": [_frozen_index(c, state) for c in contacts],
         "gears": [[g.name, g.friction, g.constraint] for g in gears],
         "stop_labels": [label for label, _ in stops],
         "output_labels": [label for label, _, _ in outputs],
@@ -280,11 +281,11 @@ def _terms_layout(n, mass, forcing, groups):
     return layout, exprs
 
 
-def _frozen_index(friction) -> int:
+def _frozen_index(friction, state) -> int:
     """The coordinate a stuck friction (or a stop in contact) fixes, when its gradient
-    is one constant entry."""
+    is one entry free of the state (``state``: coordinates, speeds, time)."""
     nonzero = [i for i, g in enumerate(friction.gradient) if g != 0]
-    if len(nonzero) == 1 and friction.gradient[nonzero[0]].is_number:
+    if len(nonzero) == 1 and not (friction.gradient[nonzero[0]].free_symbols & state):
         return nonzero[0]
     return -1
 

@@ -133,7 +133,7 @@ class Result:
 
         def evaluate(t, y, owner):
             mode = self.trajectory.segments[owner].mode
-            if mode.groups:
+            if mode.groups or self._modes.gears:        # constrained, or a gear's loss
                 return self._modes.accelerations(t, y, mode)[0]
             return np.array(self.compiled.rhs(t, y, self._modes.p(mode)))[n:]
         if not len(times):
@@ -173,8 +173,8 @@ class Result:
 
     def energy(self):
         """Kinetic and potential energy at the step points: ``(T, V)`` arrays."""
-        values = np.array([self.compiled.energy(self.t[j], self.y[:, j], self._base
-                                                + [0.0] * len(self.compiled.frictions))
+        p = self._base + [0.0] * (len(self.compiled.frictions) + self.compiled.flags)
+        values = np.array([self.compiled.energy(self.t[j], self.y[:, j], p)
                            for j in range(len(self.t))]).T
         return values[0], values[1]
 

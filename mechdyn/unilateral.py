@@ -65,7 +65,7 @@ class Stop(Element):
         self._expr("restitution")
         e = self.restitution
         if e.is_number and not 0 <= e <= 1:
-            raise DeclarationError(f"{what}: restitution = {e} must lie in [0, 1]")
+            raise DeclarationError(f"{what}: restitution = {_text(e)} must lie in [0, 1]")
         if self.lower is not None and self.upper is not None:
             width = self.upper - self.lower
             if width.is_number and not width > 0:
@@ -118,9 +118,9 @@ class LossyGear(Constraint):
             raise DeclarationError(f"{what}: ratio must not be zero")
         eta = self.eta_forward
         if eta.is_number and not 0 < eta <= 1:
-            raise DeclarationError(f"{what}: eta_forward = {eta} must lie in (0, 1]")
+            raise DeclarationError(f"{what}: eta_forward = {_text(eta)} must lie in (0, 1]")
         if self.eta_backward.is_number and not self.eta_backward <= 1:
-            raise DeclarationError(f"{what}: eta_backward = {self.eta_backward} must not "
+            raise DeclarationError(f"{what}: eta_backward = {_text(self.eta_backward)} must not "
                                    "exceed 1 (0 or below: self-locking)")
         for attribute in ("bearing_forward", "bearing_backward"):
             value = getattr(self, attribute)
@@ -145,3 +145,8 @@ def limit_sides(stop: Stop) -> list:
     ``NAME.upper`` (side -1)."""
     return [(f"{stop.name}.{'lower' if side > 0 else 'upper'}", side, limit)
             for side, limit in stop.limits]
+
+
+def _text(number) -> str:
+    """A number as the user would write it (1.5, not 1.50000000000000)."""
+    return f"{float(number):g}"

@@ -4,8 +4,8 @@ e; it bounces ever lower until it rests on the stop, which then carries M.
 
 First impact at t_1 = sqrt(2 J theta_0 / M) with speed omega_1 = M t_1 / J, impulse
 (1 + e) J omega_1; the bounces (each e times the last) end at
-t_1 + 2 e omega_1 J / ((1 - e) M), when all the work M theta_0 has become heat. Scene
-``plastic``: e = 0, at rest on the stop from the first impact.
+t_1 + 2 e omega_1 J / ((1 - e) M), when all the work M theta_0 has become heat. With
+e = 0 (``--param e=0``) the lever rests on the stop from the first impact.
 """
 import sympy as sp
 
@@ -25,6 +25,4 @@ params = {J: 0.02, M: 4, theta_0: 0.5, e: 0.6}
 scenes = {
     "bounce": md.Scene("bounce", initial={theta: 0, md.speed(theta): 0}, t_end=1,
                        outputs=["end stop", "end stop.mode"]),
-    "plastic": md.Scene("plastic", initial={theta: 0, md.speed(theta): 0}, t_end=1,
-                        outputs=["end stop"]),
 }
