@@ -153,9 +153,10 @@ class Driver:
         """Integrate from ``(t0, y0)`` until something happens; returns the outcome and
         the last step size."""
         p = self.modes.p(mode)
-        fun = self.modes.rhs(mode) or _fast_rhs(self.c.raw["rhs"], p, 2 * self.n)
+        constrained = self.modes.rhs(mode)          # stuck elements or a gear's loss
+        fun = constrained or _fast_rhs(self.c.raw["rhs"], p, 2 * self.n)
         jac = None
-        if method in WITH_JACOBIAN and not mode.groups:
+        if method in WITH_JACOBIAN and constrained is None:
             jac = _tolerant(lambda t, y: self.c.jac(t, y, p), (2 * self.n, 2 * self.n))
         fun = _tolerant(fun, (2 * self.n,))
         watch = self._watch(mode, p, t0, y0, muted)

@@ -82,7 +82,7 @@ class StateView:
     then the stops' limits: gradients, sliding rates, biases, magnitudes, gaps."""
 
     def __init__(self, modes, terms):
-        n, k, c = modes.n, modes.k, modes.contacts
+        n, c = modes.n, modes.contacts
         self.n, self.terms, self.gears, self.kinds = n, terms, modes.gears, modes.kinds
         self.mass, self.forcing = terms["mass"], terms["forcing"]
         self.gradients, self.rates, self.biases = (
