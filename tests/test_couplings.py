@@ -232,3 +232,31 @@ def test_table_in_a_load_compiles_with_its_breakpoints_as_switches():
 def test_bad_tables_are_refused_naming_the_culprit(xs, ys, match):
     with pytest.raises(md.DeclarationError, match=match):
         md.table(xs, ys, name="mu")
+
+
+def test_switching_functions_compile_inside_the_new_elements():
+    # A one-way clutch's moment Max(0, 4 - 2 t): the wheel (J = 3, 5 rad/s) overruns the
+    # hub (J = 1, at rest); slip 5 - (4/3) (4 t - t^2) reaches 0 at t = 1.5 s.
+    mech = md.Mechanism("hub", [phi_1, phi_2])
+    mech.link("hub", J=1, angle=phi_1)
+    mech.link("wheel", J=3, angle=phi_2)
+    mech.one_way_clutch("clutch", sp.Max(0, 4 - 2 * md.t), along=phi_2 - phi_1)
+    res = mech.simulate(md.Scene("s", initial={phi_1: 0, phi_2: 0, md.speed(phi_1): 0,
+                                               md.speed(phi_2): 5}, t_end=2), {})
+    assert [e.time for e in res.events if e.kind == "stick"] == [pytest.approx(1.5,
+                                                                              rel=1e-10)]
+    # A lossy gear whose input-side bearing loss (Heaviside of t) and efficiency (Min of
+    # the speed) switch: input J = 1 driven by 10, output J = 4 (ratio 2, so 1 + 1 = 2
+    # at the input). Until 0.5 s eta = min(1, ...) = 1: 10 / 2; then (10 - 3) / 2.
+    phi_a, phi_b = md.coordinates("phi_a phi_b")
+    gear = md.Mechanism("gear", [phi_a, phi_b])
+    gear.link("input", J=1, angle=phi_a)
+    gear.link("output", J=4, angle=phi_b)
+    gear.load("drive", 10, along=phi_a)
+    gear.lossy_gear("gear", input=phi_a, output=phi_b, ratio=2,
+                    eta_forward=sp.Min(1, 2 + md.speed(phi_a)),
+                    bearing_forward=3 * sp.Heaviside(md.t - 0.5))
+    res = gear.simulate(md.Scene("s", initial={phi_a: 0, phi_b: 0, md.speed(phi_a): 0,
+                                               md.speed(phi_b): 0}, t_end=1), {})
+    assert res.at(0.5, md.speed(phi_a)) == pytest.approx(2.5, rel=1e-9)
+    assert res.final(md.speed(phi_a)) == pytest.approx(2.5 + 3.5 * 0.5, rel=1e-9)

@@ -15,8 +15,8 @@ counterparts:
 - ``signalEngagement`` (Pulse amplitude 1, width 50 %, period 1.3, startTime 0.3) ->
   ``f_normalized``: engaged on [0.3, 0.95) and [1.6, 2.25).
 
-Not yet expressible: the one-way clutch. The declaration uses the proposed
-``one_way_clutch(name, moment, along, peak=, release=)`` (validation/msl/NEEDS.md).
+The clutch: ``one_way_clutch(name, moment, along, peak=, release=)``
+(validation/msl/NEEDS.md).
 
 Reference signals: inertiaIn.phi/w, oneWayClutch.phi_rel/w_rel = phi_out - phi_in and its
 rate.

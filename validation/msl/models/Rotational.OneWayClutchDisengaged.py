@@ -13,8 +13,7 @@ mechdyn counterparts:
   freewheel locks and releases forward only when the holding torque exceeds
   ``tau0_max_low = 1e-4 mu cgeo fn_max = 1.5e-4 N m``.
 
-Not yet expressible: the one-way clutch (proposed ``one_way_clutch``,
-validation/msl/NEEDS.md).
+The clutch: ``one_way_clutch`` with no moment (validation/msl/NEEDS.md).
 
 Reference signals: inertiaIn.phi/w, oneWayClutch.phi_rel/w_rel = phi_out - phi_in and its
 rate.

@@ -25,13 +25,10 @@ their mechdyn counterparts:
   ``s`` to the limit and ``v`` to 0 (a perfectly plastic impact), and the friction state
   machine lets the mass leave the stop only away from it.
 
-Not yet expressible: static friction above sliding friction (peak 1.001 of
-MassWithStopAndFriction) and the hard stop with velocity reset. The declaration uses the
-proposed ``friction(..., peak=...)`` and ``stop(...)`` (validation/msl/NEEDS.md). The
-``mass`` subsystem alone is expressible today (plain Coulomb friction with a tabulated
-magnitude; parts/Translational.Friction.mass.py) and shows issue 14 defect 3: it sits
-stuck at rest, the sine force exceeds the holding capacity between two step ends, and
-the release is missed.
+Declared with ``friction(..., peak=1.001)``, ``stop(...)`` and ``bearing_friction`` with
+an ``md.table`` (validation/msl/NEEDS.md). The ``mass`` subsystem alone
+(parts/Translational.Friction.mass.py) pins issue 14 defect 3: stuck at rest, the sine
+force exceeds the holding capacity between two step ends.
 
 Reference signals: mass.s/v, stop1.s/v, stop2.s/v (the centres and their speeds).
 """
