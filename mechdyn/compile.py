@@ -114,9 +114,11 @@ class CompiledScene:
         return out
 
     def terms(self, t_value, y, p) -> dict:
-        """The friction modes' pieces by name: ``mass`` (n x n), ``forcing``,
-        ``friction_gradient`` (k x n), ``friction_bias``, ``friction_magnitude``,
-        ``friction_rate``."""
+        """The friction modes' pieces by name (:mod:`mechdyn.generate`): ``mass``
+        (n x n), ``forcing``, ``friction_gradient`` (k x n), ``friction_bias``,
+        ``friction_magnitude``, ``friction_rate``, ``friction_peak``, ``friction_release``,
+        the stops' ``contact_*``, the lossy gears' ``gear_law``, the loops'
+        ``constraint_*``."""
         flat = np.array(self._call("terms", t_value, y, p))
         out = {name: flat[start:stop].reshape(shape) for name, start, stop, shape in self._slices}
         mass = np.empty((self.dof, self.dof))

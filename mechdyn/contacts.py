@@ -53,8 +53,9 @@ def jump(modes, t, y, mode, arrived, events):
     before (None at the start of a run, where limits touched are found and limits
     already passed are refused); ``arrived``: the limits whose gap event fired."""
     from .friction import Mode
-    k = modes.k
-    n = modes.n
+    k, n = modes.k, modes.n
+    if not modes.contacts and (mode is not None or "one_way" not in modes.kinds):
+        return y, set(), set()
     view = modes.view(t, y, mode or Mode())
     touching = set(arrived) | {e for e in (mode.stuck if mode else ()) if e >= k}
     if mode is None:

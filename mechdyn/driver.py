@@ -1,8 +1,9 @@
 """The simulation driver: a run as a sequence of segments.
 
 A segment is integrated with one friction mode and one method; it ends at an event (a
-stop condition, a friction element sticking, releasing or engaging, a switch of a
-``Piecewise``), when the explicit method turns out to be held by stability (stiffness),
+stop condition, a friction element sticking, releasing or engaging, a stop's limit
+reached: an impact, :mod:`mechdyn.contacts`; a switch of a ``Piecewise``), when the
+explicit method turns out to be held by stability (stiffness),
 or when its method fails. The driver then decides what comes next: the new friction mode
 (:mod:`mechdyn.friction`), the method of the next segment (:mod:`mechdyn.methods`: the
 stiffness is measured again at every segment start), or another method from the last
