@@ -350,54 +350,6 @@ class FrictionModes:
                 out.append(view.gaps[index] - offset)
         return out
 
-    # ------------------------------------------------------------- outputs
-    def output_values(self, t, y, mode, items, values) -> list:
-        """The outputs known only at run time, filled into ``values`` (one per output;
-        ``items``: what each output asks for): a stuck element's holding force, a
-        stop's contact force, a lossy gear's mesh moment (``NAME``), loss moment
-        (``NAME.loss``) and loss power (``power:NAME``), and modes (``NAME.mode``)."""
-        stuck = {self.names[k] for k in mode.stuck if k < self.k}
-        wanted = [(i, item) for i, item in enumerate(items) if self._run_time(item, stuck)]
-        if not wanted:
-            return values
-        _, forces, solution = self.forces(t, y, mode)
-        view = self.view(t, y, mode)
-        gears = {name: (i, k, c) for i, (name, k, c) in enumerate(self.gears)}
-        values = list(values)
-        for i, item in wanted:
-            if item.startswith("power:"):
-                _, k, _ = gears[item[6:]]
-                values[i] = forces[k] * view.rates[k]
-            elif item in gears:
-                values[i] = -solution.loops[gears[item][2]]
-            elif item.endswith(".loss"):
-                values[i] = -forces[gears[item[:-5]][1]]
-            elif item.endswith(".mode"):
-                values[i] = self._mode_number(item[:-5], mode)
-            elif item in self.contact_elements:
-                values[i] = sum(self._side(j) * forces[self.k + j]
-                                for j, owner in enumerate(self.contact_elements) if owner == item)
-            else:
-                values[i] = forces[self.names.index(item)]
-        return values
-
-    def _run_time(self, item, stuck) -> bool:
-        gear_names = {g[0] for g in self.gears}
-        return (item.startswith("power:") and item[6:] in gear_names) or item in gear_names \
-            or item.endswith((".mode", ".loss")) or item in self.contact_elements \
-            or item in stuck
-
-    def _side(self, j) -> int:
-        return 1 if self.contact_names[j].endswith(".lower") else -1
-
-    def _mode_number(self, name, mode) -> float:
-        stuck = set(mode.stuck)
-        if name in self.names:
-            k = self.names.index(name)
-            return 2.0 if k in mode.free else (0.0 if k in stuck else float(mode.signs[k]))
-        return float(sum(self._side(j) for j, owner in enumerate(self.contact_elements)
-                         if owner == name and self.k + j in stuck))
-
 
 def _allowed_motions(loop_gradients, n):
     """A basis of the speeds the closed loops allow (the null space of their

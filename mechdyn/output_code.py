@@ -6,7 +6,7 @@ run-time sign), ``power:NAME`` (an element's power), ``NAME.slip`` (a friction's
 speed), a sympy expression, or a closed loop's name (its multipliers). Outputs known
 only at run time (a stuck element's holding force, a stop's contact force, a lossy
 gear's mesh and loss moments, ``NAME.mode``) are generated as 0 and filled in by
-:meth:`mechdyn.friction.FrictionModes.output_values`.
+:mod:`mechdyn.mode_outputs`.
 
 >>> import mechdyn as md
 >>> model = md.load_model("models/shoe_brake.py")
@@ -85,7 +85,7 @@ def _coupling_output(eqs, scene, item):
     """``NAME.slip`` (the sliding speed of a friction, one-way clutch or lossy gear),
     ``NAME.mode`` (+1/-1 sliding, 0 stuck, 2 free; a stop: 0 open, +1/-1 resting on its
     lower/upper limit) and ``NAME.loss`` (a lossy gear's loss moment); the last two are
-    filled in at run time (:meth:`mechdyn.friction.FrictionModes.output_values`)."""
+    filled in at run time (:mod:`mechdyn.mode_outputs`)."""
     name, suffix = item.rsplit(".", 1)
     friction = next((fr for fr in eqs.frictions if fr.name == name), None)
     stop = any(c.element == name for c in eqs.contacts)

@@ -19,6 +19,7 @@ import sympy as sp
 
 from .errors import MechdynError
 from .events import Event
+from .mode_outputs import run_time_outputs
 from .symbols import dotted_symbol, is_coordinate
 from .trajectory import Trajectory
 
@@ -167,7 +168,7 @@ class Result:
                 lam = self._modes.multipliers(t, y, mode)
                 for label, k in multipliers.items():
                     values[labels.index(label)] = lam[k]
-            return self._modes.output_values(t, y, mode, items, values)
+            return run_time_outputs(self._modes, t, y, mode, items, values)
         table = self._each_point(evaluate, times, states, owners)
         return {label: table[i] for i, label in enumerate(labels)}
 
