@@ -15,6 +15,8 @@ from __future__ import annotations
 import sympy as sp
 from sympy.core.function import AppliedUndef
 
+from .symbols import dotted_symbol
+
 __all__ = ["derivation_latex", "derivation_text", "equations_latex", "derivation_steps",
            "coupling_steps", "presentable", "readable"]
 
@@ -97,7 +99,7 @@ def coupling_steps(eqs) -> list:
         name = f"\\text{{{contact.name}}}"
         steps.append(("stop", f"g_{{{name}}}", f"g[{contact.name}]", sp.Ge(contact.gap, 0)))
         steps.append(("impact", f"\\dot{{g}}^{{+}}_{{{name}}}", f"dg+[{contact.name}]/dt",
-                      -contact.restitution * sp.Symbol("\\dot{g}^{-}")))
+                      -contact.restitution * dotted_symbol("g", 1)))   # g' before
     for gear in eqs.gears:
         tau = sp.Symbol(f"tau_{gear.name}")
         eta_forward, eta_backward, bearing_forward, bearing_backward = gear.law
