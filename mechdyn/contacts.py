@@ -57,11 +57,11 @@ def jump(modes, t, y, mode, arrived, events):
     if not modes.contacts and (mode is not None or "one_way" not in modes.kinds):
         return y, set(), set()
     view = modes.view(t, y, mode or Mode())
-    touching = set(arrived) | {e for e in (mode.stuck if mode else ()) if e >= k}
-    if mode is None:
-        touching |= _touching_at_start(modes, view, y)
+    resting = {e for e in (mode.stuck if mode else ()) if e >= k}     # in contact before
+    arriving = set(arrived) | (_touching_at_start(modes, view, y) if mode is None else set())
+    touching = resting | arriving
     rest = _AT_REST * (1.0 + float(np.max(np.abs(y[n:]), initial=0.0)))
-    hitting = [e for e in sorted(touching) if view.rates[e] < -rest]
+    hitting = [e for e in sorted(arriving) if view.rates[e] < -rest]
     if mode is None:
         hitting += [j for j in range(k) if modes.kinds[j] == "one_way"
                     and view.rates[j] < -rest]

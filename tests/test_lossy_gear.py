@@ -137,3 +137,21 @@ def test_bad_gears_are_refused_naming_the_gear(kwargs, match):
     mech = md.Mechanism("gear", [phi_a, phi_b])
     with pytest.raises(md.DeclarationError, match=f"lossy gear 'gear'.*{match}"):
         mech.lossy_gear("gear", input=phi_a, output=phi_b, **kwargs)
+
+
+def test_a_two_stage_gearbox_loses_eta_squared_of_the_drive():
+    # Input J_a = 0.1 driven by 10, intermediate J_m = 0.2, output J_b = 1, two stages of
+    # ratio 2 and eta 0.8: tau_2 = J_b a_b / (r eta), J_m r a_b = r eta (10 - J_a r^2 a_b)
+    # - tau_2, so a_b = r eta 10 / (J_m r + r^3 eta J_a + J_b / (r eta)).
+    a, m, b = md.coordinates("phi_a phi_m phi_b")
+    box = md.Mechanism("two stages", [a, m, b])
+    box.link("in", J=0.1, angle=a)
+    box.link("mid", J=0.2, angle=m)
+    box.link("out", J=1.0, angle=b)
+    box.load("drive", 10, along=a)
+    box.lossy_gear("stage 1", input=a, output=m, ratio=2, eta_forward=0.8, eta_backward=0.7)
+    box.lossy_gear("stage 2", input=m, output=b, ratio=2, eta_forward=0.8, eta_backward=0.7)
+    res = box.simulate(md.Scene("s", initial={a: 0, m: 0, b: 0, md.speed(a): 0},
+                                t_end=1), {})
+    a_b = 2 * 0.8 * 10 / (0.2 * 2 + 8 * 0.8 * 0.1 + 1.0 / (2 * 0.8))
+    assert res.final(md.speed(b)) == pytest.approx(a_b, rel=1e-10)
