@@ -68,8 +68,8 @@ def jump(modes, t, y, mode, arrived, events):
     if not hitting:
         return y, touching, {e for e in arrived if view.rates[e] <= rest}
     targets = _targets(modes, t, y, view, mode, hitting, rest)
-    locked = [e for e in (mode.stuck if mode else ()) if modes.kinds[e] == "one_way"]
-    others = [e for e in sorted(touching) + locked if e not in hitting]
+    one_way = [j for j in range(k) if modes.kinds[j] == "one_way"]
+    others = [e for e in sorted(touching) + one_way if e not in hitting]
     u = y[n:]
     active = dict(targets)
     for _ in range(2 * len(hitting) + 2 * len(others) + 2):

@@ -168,3 +168,28 @@ def test_the_ball_of_the_docstring_loses_its_energy_in_the_bounces():
     assert res.final("floor") == pytest.approx(10.0, rel=1e-12)    # carries m g
     scene = dataclasses.replace(scene, t_end=1.5)
     assert ball.simulate(scene, {}).final(md.speed(x)) == pytest.approx(0.0, abs=1e-9)
+
+
+def test_an_impact_passes_through_a_freewheel_that_would_be_driven_backward():
+    # Hub (J = 1) and wheel (J = 3) turning together at 2 rad/s; the wheel hits a
+    # plastic stop. The hub would run on ahead of it, which the freewheel forbids: both
+    # stop, the stop taking the impulse (1 + 3) * 2 and the energy 4 * 2^2 / 2. Had the
+    # hub hit the stop, the wheel would overrun on at 2 rad/s.
+    def run(stopped):
+        mech = md.Mechanism("hub", [phi_1, phi_2])
+        mech.link("hub", J=1, angle=phi_1)
+        mech.link("wheel", J=3, angle=phi_2)
+        mech.freewheel("freewheel", along=phi_2 - phi_1)
+        mech.stop("stop", along=stopped, upper=0.5)
+        scene = md.Scene("s", initial={phi_1: 0, phi_2: 0, md.speed(phi_1): 2,
+                                       md.speed(phi_2): 2}, t_end=0.5)
+        return mech.simulate(scene, {})
+    res = run(phi_2)
+    impact = [e for e in res.events if e.kind == "impact"][0]
+    assert impact.time == pytest.approx(0.25, rel=1e-10)
+    assert impact.value == pytest.approx(8.0, rel=1e-10)
+    assert impact.energy == pytest.approx(8.0, rel=1e-10)
+    assert res.final(md.speed(phi_1)) == pytest.approx(0.0, abs=1e-12)
+    res = run(phi_1)
+    assert res.final(md.speed(phi_2)) == pytest.approx(2.0, rel=1e-12)
+    assert res.final(md.speed(phi_1)) == pytest.approx(0.0, abs=1e-12)
