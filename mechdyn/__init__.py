@@ -18,6 +18,8 @@ from .errors import (DeclarationError, DerivationError, MechdynError, MechdynWar
 # Public names loaded on first use: name -> module.
 _LAZY = {
     **dict.fromkeys(["Damper", "Friction", "Gravity", "Link", "Load", "Spring"], "elements"),
+    **dict.fromkeys(["OneWayClutch", "Stop", "LossyGear"], "unilateral"),
+    "table": "tables", "Table": "tables",
     "Mechanism": "mechanism", "Model": "model_file", "load_model": "model_file",
     "Scene": "scene", "reaches": "scene", "stopped": "scene",
     **dict.fromkeys(["acceleration", "coordinate", "coordinates", "plain", "speed", "t"],
@@ -38,7 +40,8 @@ _LAZY = {
     "work_precision": "precision", "WorkPrecision": "precision",
     "characteristic": "characteristics", "Characteristic": "characteristics",
     "to_si": "units", "UnitError": "units",
-    "duty_cycle": "cycle", "DutyCycleError": "cycle", "CycleResult": "cycle_result", "animate": "animation", "Film": "animation",
+    "duty_cycle": "cycle", "DutyCycleError": "cycle", "CycleResult": "cycle_result",
+    "animate": "animation", "Film": "animation",
     **dict.fromkeys(["Linkage", "LinkageError", "CrankSweep", "Singularity", "Grashof",
                      "grashof"], "linkage"),
     **dict.fromkeys(["kinetostatics", "shaking", "Kinetostatics", "Reaction",
@@ -49,6 +52,7 @@ _LAZY_MODULES = {"reduction", "units", "motors"}
 
 __all__ = [
     "motors", "Mechanism", "Link", "Load", "Spring", "Damper", "Gravity", "Friction",
+    "OneWayClutch", "Stop", "LossyGear", "table", "Table",
     "Scene", "stopped", "reaches", "Model", "load_model",
     "t", "coordinate", "coordinates", "speed", "acceleration", "plain",
     "MechdynError", "MechdynWarning", "DeclarationError", "DerivationError", "SceneError",

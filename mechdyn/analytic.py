@@ -127,6 +127,12 @@ def _problem(mech, scene, params, what):
                                  .xreplace(subs))
         start["t"] = _exact(sp.Float(scene.t_start))
         direction = sp.sign(start["omega"])
+    one_way = [name for name in eqs.switching if name not in
+               {f.name for f in eqs.frictions if f.kind == "friction"}]
+    if one_way:
+        raise AnalyticError(f"{what}: {mech.name!r} has stops or one-way elements "
+                            f"({', '.join(one_way)}) whose modes are decided numerically: "
+                            "use mech.simulate(scene, params)")
     if direction == 0 and eqs.frictions:
         raise AnalyticError(
             f"{what}: {mech.name!r} starts at rest with friction "

@@ -47,7 +47,8 @@ def _generator_hash() -> str:
     here = Path(__file__).parent
     digest = hashlib.sha256()
     for module in ("derive.py", "codegen.py", "generate.py", "generated.py", "compile.py",
-                   "elements.py", "symbols.py", "loop_code.py"):
+                   "elements.py", "symbols.py", "loop_code.py", "output_code.py",
+                   "unilateral.py"):
         digest.update((here / module).read_bytes())
     return digest.hexdigest()[:16]
 

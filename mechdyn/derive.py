@@ -28,20 +28,53 @@ from .elements import (Constraint, Damper, Friction, Gravity, Link, Load, Spring
                        is_structural)
 from .errors import DerivationError
 from .symbols import dotted_symbol, t
+from .unilateral import LossyGear, OneWayClutch, Stop, limit_sides
 
-__all__ = ["Equations", "FrictionTerm", "ConstraintTerm", "derive"]
+__all__ = ["Equations", "FrictionTerm", "ContactTerm", "GearTerm", "ConstraintTerm", "derive"]
 
 
 @dataclass(frozen=True)
 class FrictionTerm:
     """A Coulomb friction element in plain symbols: magnitude, the gradient of its
     ``along`` expression, its sliding rate and the velocity-only part of its second
-    derivative (``s'' = gradient . q'' + bias``)."""
+    derivative (``s'' = gradient . q'' + bias``); ``kind`` "friction", "one_way" (a
+    one-way clutch: ``release`` its smallest breakaway moment) or "gear" (the mesh loss
+    of a lossy gear, along ``ratio * output``; its magnitude comes from the gear's law
+    at run time); ``peak`` the static factor."""
     name: str
     magnitude: sp.Expr
     gradient: sp.Matrix
     rate: sp.Expr
     bias: sp.Expr
+    kind: str = "friction"
+    peak: sp.Expr = sp.S.One
+    release: sp.Expr = sp.S.Zero
+
+
+@dataclass(frozen=True)
+class ContactTerm:
+    """One limit of a hard stop in plain symbols: ``gap`` (``side * (along - limit)``,
+    non-negative while open), its gradient, rate and bias (as :class:`FrictionTerm`),
+    the ``restitution`` and the stop's ``element`` name; ``name`` is ``STOP.lower`` or
+    ``STOP.upper``."""
+    name: str
+    element: str
+    gap: sp.Expr
+    gradient: sp.Matrix
+    rate: sp.Expr
+    bias: sp.Expr
+    restitution: sp.Expr
+
+
+@dataclass(frozen=True)
+class GearTerm:
+    """A lossy gear: its mesh constraint's index in ``Equations.constraints``, its loss
+    element's index in ``Equations.frictions`` and its ``law`` ``(eta_forward,
+    eta_backward, bearing_forward, bearing_backward)`` in plain symbols."""
+    name: str
+    constraint: int
+    friction: int
+    law: tuple
 
 
 @dataclass(frozen=True)
@@ -67,7 +100,8 @@ class Equations:
     ``eliminated`` (coordinate -> expression, from rigid springs), ``elements`` (names
     included), ``excluded`` (names left out), ``rigid`` (names made rigid),
     ``constraints`` (the closed loops' :class:`ConstraintTerm` s: ``M a = f + G' lambda``
-    with ``G a = -bias``), ``independent`` (plain symbols of the independent coordinates).
+    with ``G a = -bias``), ``independent`` (plain symbols of the independent coordinates),
+    ``contacts`` (the stops' limits, :class:`ContactTerm`), ``gears`` (:class:`GearTerm`).
     """
     name: str
     coordinates: tuple
@@ -91,6 +125,8 @@ class Equations:
     to_plain: object = None
     constraints: tuple = ()
     independent: tuple = ()
+    contacts: tuple = ()
+    gears: tuple = ()
 
     # --------------------------------------------------------------- the system
     @property
@@ -115,6 +151,13 @@ class Equations:
             if name not in friction_names:
                 total = total + column
         return total
+
+    @property
+    def switching(self) -> tuple:
+        """Names of the elements whose modes switch at run time: frictions, one-way
+        clutches, lossy gears, stops."""
+        stops = [c.element for c in self.contacts]
+        return tuple(fr.name for fr in self.frictions) + tuple(dict.fromkeys(stops))
 
     @property
     def eqs(self) -> list:
@@ -215,7 +258,14 @@ def derive(mechanism, element_names=None, rigid=()) -> Equations:
         kinetic += link.m * (rate(x) ** 2 + rate(y) ** 2) / 2 + link.J * rate(angle) ** 2 / 2
     rheonomic = any(t in e.free_symbols for (_, _, *pos) in link_plain.values() for e in pos)
 
-    forces, powers, frictions = {}, {}, []
+    def moving(expr):                  # gradient, rate and bias of an expression
+        grad = gradient(expr)
+        slide = rate(expr, grad)
+        bias = sum((_diff(slide, qi) * ui for qi, ui in zip(q, u)), sp.S.Zero) \
+            + _diff(slide, t)
+        return grad, slide, bias
+
+    forces, powers, frictions, contacts = {}, {}, [], []
     zero = sp.zeros(len(q), 1)
     for name in element_names:
         element = elements[name]
@@ -247,18 +297,34 @@ def derive(mechanism, element_names=None, rigid=()) -> Equations:
         elif isinstance(element, Friction):
             along = to_plain(element.along)
             magnitude = to_plain(element.moment)
-            slide = rate(along)
-            grad = gradient(along)
-            bias = sum((_diff(slide, qi) * ui for qi, ui in zip(q, u)), sp.S.Zero) \
-                + _diff(slide, t)
-            frictions.append(FrictionTerm(name, magnitude, grad, slide, bias))
-            column = -magnitude * sp.sign(slide) * grad
+            grad, slide, bias = moving(along)
+            one_way = isinstance(element, OneWayClutch)
+            frictions.append(FrictionTerm(
+                name, magnitude, grad, slide, bias, "one_way" if one_way else "friction",
+                to_plain(element.peak), to_plain(element.release) if one_way else sp.S.Zero))
+            column = -magnitude * (sp.Heaviside(slide) if one_way else sp.sign(slide)) * grad
+        elif isinstance(element, Stop):
+            along = to_plain(element.along)
+            grad, slide, bias = moving(along)
+            for label, side, limit in limit_sides(element):
+                contacts.append(ContactTerm(label, name, side * (along - to_plain(limit)),
+                                            side * grad, side * slide, side * bias,
+                                            to_plain(element.restitution)))
+            column = zero
         else:  # pragma: no cover - every element type is handled above
             raise TypeError(type(element))
         forces[name] = column
         powers[name] = sp.Add(*[column[i] * u[i] for i in range(len(q)) if column[i] != 0])
 
     constraints = _constraint_terms(mechanism, to_plain, gradient, rate, q, u)
+    gears = []
+    for index, constraint in enumerate(constraints):
+        gear = elements[constraint.name] if constraint.name in elements else None
+        if isinstance(gear, LossyGear):
+            grad, slide, bias = moving(to_plain(gear.ratio * gear.output))
+            gears.append(GearTerm(gear.name, index, len(frictions),
+                                  tuple(to_plain(value) for value in gear.law)))
+            frictions.append(FrictionTerm(gear.name, sp.S.Zero, grad, slide, bias, "gear"))
     constrained = {qi for c in constraints for qi, g in zip(q, c.gradient) if g != 0}
     mass, inertial = _lagrange(kinetic, q, u)
     for i, qi in enumerate(q):
@@ -280,7 +346,8 @@ def derive(mechanism, element_names=None, rigid=()) -> Equations:
         elements=tuple(n for n in element_names if n not in rigid_names),
         excluded=excluded, rigid=rigid_names, rheonomic=rheonomic, links=link_plain,
         to_plain=to_plain, constraints=constraints,
-        independent=tuple(plain_of[c] for c in mechanism.independent if c in kept))
+        independent=tuple(plain_of[c] for c in mechanism.independent if c in kept),
+        contacts=tuple(contacts), gears=tuple(gears))
 
 
 def _constraint_terms(mechanism, to_plain, gradient, rate, q, u) -> tuple:

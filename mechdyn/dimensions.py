@@ -36,6 +36,7 @@ from .elements import Damper, Friction, Gravity, Link, Load, Spring
 from .errors import DeclarationError, SceneError
 from .symbols import dotted_symbol, t
 from .units import DIMENSIONLESS, Dimension, dimension
+from .unilateral import Stop
 
 __all__ = ["check_elements", "check_equations", "check_scene", "dimension_of",
            "Misfit", "MissingUnit"]
@@ -260,6 +261,16 @@ def _check_element(element, known, mechanism):
         size = "value" if isinstance(element, Load) else "moment"
         _check_work(label, f"{size} * d(along)/d{{q}}", dims[size], dims["along"],
                     element.along, known, mechanism)
+        if "release" in dims:
+            _check_work(label, "release * d(along)/d{q}", dims["release"], dims["along"],
+                        element.along, known, mechanism)
+    elif isinstance(element, Stop):
+        for limit in ("lower", "upper"):
+            if limit in dims and ANY not in (dims[limit], dims["along"]) and \
+                    dims[limit] != dims["along"]:
+                raise DeclarationError(f"{label}: {limit} = {_plain(getattr(element, limit))}"
+                                       f" has dimension {_short(dims[limit])} but along "
+                                       f"has {_short(dims['along'])}")
     elif isinstance(element, Spring):
         k, s = dims["k"], dims["stretch"]
         _check_work(label, "k * stretch * d(stretch)/d{q}", None if k is ANY or s is ANY

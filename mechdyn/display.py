@@ -98,9 +98,10 @@ def _per(unit, time):
 def output_units(mechanism, scene) -> dict:
     """The SI unit of each of a scene's outputs, by label (see the module)."""
     import sympy as sp
-    from .dimensions import ENERGY, Misfit, MissingUnit, _plain, dimension_of, \
+    from .dimensions import ENERGY, TIME, Misfit, MissingUnit, _plain, dimension_of, \
         known_dimensions
     from .elements import Damper, Friction, Load, Spring
+    from .unilateral import LossyGear, Stop
     known = {sp.Symbol(s.name): d for s, d in known_dimensions(mechanism).items()}
 
     def dimension(expr):
@@ -113,9 +114,18 @@ def output_units(mechanism, scene) -> dict:
         if isinstance(item, str) and item.startswith("power:"):
             units[label] = "W"
             continue
+        name, _, suffix = item.rpartition(".") if isinstance(item, str) else ("", "", "")
         element = mechanism.elements.get(item) if isinstance(item, str) else None
-        if isinstance(element, (Load, Friction)):
-            along = dimension(element.along)
+        if name in mechanism.elements and suffix in ("slip", "loss", "mode"):
+            element, along = mechanism.elements[name], None
+            if suffix != "mode":
+                along = dimension(element.input if isinstance(element, LossyGear)
+                                  else element.along)
+            units[label] = "" if along is None else \
+                (along / TIME).si if suffix == "slip" else (ENERGY / along).si
+        elif isinstance(element, (Load, Friction, Stop, LossyGear)):
+            along = dimension(element.input if isinstance(element, LossyGear)
+                              else element.along)
             units[label] = (ENERGY / along).si if along is not None else ""
         elif isinstance(element, (Spring, Damper)):
             stretch = dimension(element.stretch)

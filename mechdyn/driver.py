@@ -2,13 +2,14 @@
 
 A segment is integrated with one friction mode, one set of locked branches, one method
 and one backend; it ends at an event (a stop condition, a friction element sticking,
-releasing or engaging, a switch of a ``Piecewise``), when its method no longer fits the
-problem (stiffness measured both ways), when its method fails, or when ``backend="auto"``
-moves a run that proves long from scipy to the compiled kernels. The driver then
-decides what comes next: the new friction mode (:mod:`mechdyn.friction`), the method
-(:mod:`mechdyn.methods`: the stiffness is measured again at every segment start), or
-another method from the last accepted state after a failure. ``stats["switches"]``
-records every change of method or backend (time, from, to, why).
+releasing or engaging, a stop's limit reached: an impact, :mod:`mechdyn.contacts`; a
+switch of a ``Piecewise``), when its method no longer fits the problem (stiffness
+measured both ways), when its method fails, or when ``backend="auto"`` moves a run that
+proves long from scipy to the compiled kernels. The driver then decides what comes next:
+the new friction mode (:mod:`mechdyn.friction`), the method (:mod:`mechdyn.methods`: the
+stiffness is measured again at every segment start), or another method from the last
+accepted state after a failure. ``stats["switches"]`` records every change of method or
+backend (time, from, to, why).
 
 Budgets bound the work: a run that exceeds its steps or its wall time stops with a
 :class:`~mechdyn.errors.SimulationError` naming the scene, the time reached, the step size
@@ -21,6 +22,7 @@ import time
 
 import numpy as np
 
+from .contacts import jump
 from .errors import SimulationError
 from .events import Event
 from .friction import FrictionModes, Mode
@@ -57,7 +59,7 @@ class Driver:
         self.c, self.base, self.scene, self.atol = compiled, list(base), scene, atol
         self.auto = scene.method == "auto"
         self.plan = backend_plan(compiled, scene.method, backend or scene.backend)
-        self.modes = FrictionModes(compiled, base)
+        self.modes = FrictionModes(compiled, base, scene.time_limit - scene.t_start)
         self.mechanism_name, self.units = mechanism.name, mechanism.units
         self.budget = budget or Budget()
         self.progress = progress
@@ -81,8 +83,9 @@ class Driver:
             terms = self.c.terms(t, y, self.modes.p(Mode()))
             self.mass_scale = check_mass(self.c, terms, t, y)
             muted, instant, count, h = set(), None, 0, None
+            y, touching, resting = jump(self.modes, t, y, None, (), self.events)
             mode = self.modes.decide(t, y, self._flags(t, y, Mode(), muted),
-                                     events=self.events)
+                                     at_rest=resting, events=self.events, touching=touching)
             y = self.modes.project(t, y, mode)
             method = self._choose(mode, t, y)
             self._failed = []
@@ -150,7 +153,7 @@ class Driver:
         p = self.modes.p(mode)
         method = self.plan.method(method, mode)
         backend = self.plan.backend(method, mode)
-        watched = watched_events(self.c, self.scene, mode, muted,
+        watched = watched_events(self.modes, self.scene, mode, muted, t0, y0,
                                  self.loops.watched_minor(t0, y0, p))
         self._watched = watched
         rtol, atol = self.scene.rtol, self.atol
@@ -224,8 +227,11 @@ class Driver:
             self.loops.check_singular(t, y, self.modes.p(mode))   # else a regular crossing
         muted = self._chattering(t, {w.index for w in kinds if w.kind == "switch"})
         sticking = [w.element for w in kinds if w.kind == "stick"]
-        new_mode = self.modes.decide(t, y, self._flags(t, y, mode, muted), at_rest=sticking,
-                                     events=self.events)
+        arrived = [self.modes.k + w.element for w in kinds if w.kind == "gap"]
+        y, touching, resting = jump(self.modes, t, y, mode, arrived, self.events)
+        new_mode = self.modes.decide(t, y, self._flags(t, y, mode, muted),
+                                     at_rest=sticking + sorted(resting), events=self.events,
+                                     touching=touching)
         for k in sticking:
             if k in new_mode.stuck:
                 self.events.append(Event(t, "stick", self.c.frictions[k],

@@ -200,19 +200,31 @@ class Gravity(Element):
 @dataclass(frozen=True)
 class Friction(Element):
     """Coulomb friction (a brake) of magnitude ``moment`` along ``along``: opposes
-    sliding, and holds at rest while the other loads stay within it."""
+    sliding with ``moment`` (which may depend on the sliding speed: Stribeck, tables),
+    and holds at rest while the other loads stay within ``peak * moment`` (static
+    friction, MSL's ``tau0_max = peak * tau0``; ``peak >= 1``)."""
     moment: object = 0
     along: object = None
+    peak: object = 1
 
     def __post_init__(self):
         super().__post_init__()
         if self.along is None:
-            raise DeclarationError(f"friction {self.name!r}: 'along' is required")
+            raise DeclarationError(f"{type(self).__name__.lower()} {self.name!r}: 'along' "
+                                   "is required")
         self._expr("moment", nonnegative=True)
         self._expr("along")
+        self._expr("peak")
+        if self.peak.is_number and not self.peak >= 1:
+            raise DeclarationError(f"{type(self).__name__.lower()} {self.name!r}: peak = "
+                                   f"{float(self.peak):g} must be at least 1 (static "
+                                   "friction is never below sliding friction)")
 
     def expressions(self):
-        return {"moment": self.moment, "along": self.along}
+        out = {"moment": self.moment, "along": self.along}
+        if self.peak != 1:
+            out["peak"] = self.peak
+        return out
 
 
 @dataclass(frozen=True)

@@ -37,11 +37,15 @@ _EPS = np.finfo(float).eps
 @dataclass(frozen=True)
 class Event:
     """Something that happened at ``time``: ``kind`` ("stick", "slip", "engage", "free",
-    "end"), the element or condition ``name``, and a ``detail`` in words."""
+    "impact", "contact", "lift", "end"), the element or condition ``name``, and a
+    ``detail`` in words. An impact carries its impulse as ``value`` and, on the first
+    impact event of an instant, the kinetic energy the velocity jump took as ``energy``."""
     time: float
     kind: str
     name: str
     detail: str = ""
+    value: float | None = None
+    energy: float | None = None
 
     def __str__(self):
         return f"t = {self.time:.6g} s: {self.kind} {self.name} ({self.detail})"

@@ -133,10 +133,10 @@ def _check(mechanism, scene):
                          f"{', '.join(map(repr, scene.until))}: a run that ends at a stop "
                          "condition has no periodic regime to find; use a scene without until=")
     eqs = mechanism.equations(scene)
-    if eqs.frictions:
-        raise PeriodicError(f"scene {scene.name!r}: Coulomb friction "
-                            f"({', '.join(fr.name for fr in eqs.frictions)}) is not smooth; "
-                            "leave it out of the scene's effects")
+    if eqs.switching:
+        raise PeriodicError(f"scene {scene.name!r}: Coulomb friction, stops or one-way "
+                            f"elements ({', '.join(eqs.switching)}) are not smooth; "
+                            "leave them out of the scene's effects")
     if not applies(mechanism, scene):
         raise PeriodicError(
             f"scene {scene.name!r}: steady running in the crank angle needs one coordinate "

@@ -11,24 +11,34 @@ constraint). The functions:
   positive definite, so a solver rejects the step);
 - ``jac``: its analytic Jacobian, ``out`` a ``2n x 2n`` array;
 - ``terms``: the pieces the friction modes need, laid out as ``meta["terms"]`` says
-  (name, offset, shape): the lower triangle of ``M``, ``f``, and per friction element
-  its gradient, the velocity part of its second derivative (``bias``), its magnitude
-  and its sliding rate;
+  (name, offset, shape): the lower triangle of ``M``, ``f``, per friction element
+  (``meta["friction_kinds"]``: "friction", "one_way", "gear") its gradient, the velocity
+  part of its second derivative (``bias``), its magnitude, sliding rate, ``peak`` and
+  ``release``; per stop limit (``meta["contacts"]``) its gradient, bias, rate, gap and
+  restitution; per lossy gear (``meta["gears"]``: name, its friction element, its
+  constraint) its law ``(eta_forward, eta_backward, bearing_forward, bearing_backward)``;
+  the closed loops' gradients, biases and rates;
 - ``events``: the stop conditions, the friction elements' sliding rates and magnitudes,
-  and the switching functions (where a ``Piecewise``, ``Min``, ``Max``, ``Abs``, ``sign`` or
-  ``Heaviside`` of the forcing changes branch), in the order of ``meta["events"]``; the
-  branches are locked by flags in ``p`` after the friction signs (:class:`Switches`);
-  last, the domain conditions (:func:`domain_conditions`: an argument that must not be
-  negative for an element's expression to have a real value);
-- ``outputs``, ``energy`` (``[T, V]``).
+  the stop limits' gaps (kind "gap": watched falling through zero while the limit is
+  open; right after an impact the gap may be a rounding below zero, so the watch starts
+  from min(gap, 0) at the segment's start), and the switching functions (where a
+  ``Piecewise``, ``Min``, ``Max``, ``Abs``, ``sign`` or ``Heaviside`` of the forcing
+  changes branch), in the order of ``meta["events"]``; the branches are locked by flags
+  in ``p`` after the friction signs (:class:`Switches`); last, the domain conditions
+  (:func:`domain_conditions`: an argument that must not be negative for an element's
+  expression to have a real value);
+- ``outputs`` (:mod:`mechdyn.output_code`), ``energy`` (``[T, V]``).
+
+A magnitude written with ``|rate|`` of its own sliding rate (Stribeck, tables) is
+compiled with ``sign * rate``: no switching function at zero sliding speed.
 """
 from __future__ import annotations
 
 import sympy as sp
 
 from .codegen import function_source, safe_symbols
-from .elements import Constraint, Damper, Friction, Load, Spring
-from .errors import SceneError
+from .elements import Constraint
+from .output_code import friction_signed, outputs as scene_outputs, slip_signed
 from .symbols import t
 
 __all__ = ["generate", "UNROLLED_LIMIT"]
@@ -40,21 +50,29 @@ def generate(eqs, scene, elements) -> tuple:
     """Metadata and generated source for the equations ``eqs`` of ``scene``
     (``elements``: the mechanism's elements by name, for outputs)."""
     n, frictions = eqs.dof, eqs.frictions
-    outputs = _outputs(eqs, scene, elements)
+    state = set(eqs.q) | set(eqs.u) | {t}
+    outputs = scene_outputs(eqs, scene, elements)
     stops = [] if scene is None else [
         (repr(c), eqs.to_plain(c.expression - c.value)) for c in scene.until]
     signs = safe_symbols("s", len(frictions))
     switches = Switches(set(eqs.q) | set(eqs.u) | {t})
-    magnitudes = [switches.lock(fr.magnitude) for fr in frictions]
+    magnitudes = [switches.lock(slip_signed(fr, sign)) for fr, sign in zip(frictions, signs)]
+    contacts, gears = eqs.contacts, eqs.gears
+    locked = {name: [switches.lock(e) for e in exprs] for name, exprs in (
+        ("peak", [fr.peak for fr in frictions]), ("release", [fr.release for fr in frictions]),
+        ("gap", [c.gap for c in contacts]), ("restitution", [c.restitution for c in contacts]),
+        ("law", [e for g in gears for e in g.law]))}
     mass_matrix = switches.lock(eqs.mass_matrix)
     forcing = switches.lock(eqs.smooth_forcing)
-    for sign, fr in zip(signs, frictions):      # a magnitude below zero pushes nothing
-        forcing = forcing - sign * switches.lock(sp.Max(fr.magnitude, 0)) * fr.gradient
-    output_exprs = [switches.lock(_friction_signed(e, eqs, signs)) for _, e in outputs]
+    for sign, fr, magnitude in zip(signs, frictions, magnitudes):
+        # a magnitude below zero pushes nothing: max(m, 0) is continuous, not a switch
+        forcing = forcing - sign * sp.Max(magnitude, 0) * fr.gradient
+    output_exprs = [switches.lock(friction_signed(e, eqs, signs)) for _, e, _ in outputs]
     flags = switches.flags
     periods = _forcing_periods([forcing] + magnitudes, set(eqs.q) | set(eqs.u))
     everything = [mass_matrix, forcing, eqs.kinetic_energy, eqs.potential_energy]
     everything += magnitudes + [e for _, e in stops] + output_exprs
+    everything += [e for exprs in locked.values() for e in exprs]
     everything += [c.expression for c in eqs.constraints]       # a loop's ground length
     known = set(eqs.q) | set(eqs.u) | {t} | set(signs) | set(flags)
     params = sorted(set().union(*(sp.sympify(e).free_symbols for e in everything)) - known,
@@ -89,11 +107,19 @@ def generate(eqs, scene, elements) -> tuple:
          [r(g) for c in constraints for g in c.gradient]),
         ("constraint_bias", (len(constraints),), [r(c.bias) for c in constraints]),
         ("constraint_rate", (len(constraints),),
-         [r(sp.diff(c.expression, t)) for c in constraints])])
-    domains = domain_conditions(eqs, elements, set(eqs.q) | set(eqs.u) | {t})
+         [r(sp.diff(c.expression, t)) for c in constraints]),
+        ("friction_peak", (len(frictions),), [r(e) for e in locked["peak"]]),
+        ("friction_release", (len(frictions),), [r(e) for e in locked["release"]]),
+        ("contact_gradient", (len(contacts), n), [r(g) for c in contacts for g in c.gradient]),
+        ("contact_bias", (len(contacts),), [r(c.bias) for c in contacts]),
+        ("contact_rate", (len(contacts),), [r(c.rate) for c in contacts]),
+        ("contact_gap", (len(contacts),), [r(e) for e in locked["gap"]]),
+        ("contact_restitution", (len(contacts),), [r(e) for e in locked["restitution"]]),
+        ("gear_law", (len(gears), 4), [r(e) for e in locked["law"]])])
+    domains = domain_conditions(eqs, elements, state)
     event_exprs = [r(e) for _, e in stops] + [r(fr.rate) for fr in frictions] \
-        + [r(m) for m in magnitudes] + [r(e) for e in switches.functions] \
-        + [r(e) for _, e in domains]
+        + [r(m) for m in magnitudes] + [r(e) for e in locked["gap"]] \
+        + [r(e) for e in switches.functions] + [r(e) for _, e in domains]
     if constraints:      # closed loops: rhs solves M a = f + G' lambda, G a = -bias
         from .loop_code import loop_sources
         loops = loop_sources(eqs, mass, force, rename, source, states)
@@ -117,13 +143,20 @@ def generate(eqs, scene, elements) -> tuple:
         "acceleration_names": [str(a) for a in eqs.a],
         "param_names": [s.name for s in params],
         "frictions": [fr.name for fr in frictions],
-        "frozen": [_frozen_index(fr, eqs) for fr in frictions],
+        "frozen": [_frozen_index(fr, state) for fr in frictions],
+        "friction_kinds": [fr.kind for fr in frictions],
+        "contacts": [c.name for c in contacts],
+        "contact_elements": [c.element for c in contacts],
+        "contact_frozen": [_frozen_index(c, state) for c in contacts],
+        "gears": [[g.name, g.friction, g.constraint] for g in gears],
         "stop_labels": [label for label, _ in stops],
-        "output_labels": [label for label, _ in outputs],
+        "output_labels": [label for label, _, _ in outputs],
+        "output_items": [item for _, _, item in outputs],
         "terms": layout,
         "events": [["stop", label] for label, _ in stops]
         + [["rate", fr.name] for fr in frictions]
         + [["magnitude", fr.name] for fr in frictions]
+        + [["gap", c.name] for c in contacts]
         + [["switch", str(e)] for e in switches.functions]
         + [["domain", label] for label, _ in domains],
         "periods": len(periods),
@@ -140,7 +173,7 @@ def generate(eqs, scene, elements) -> tuple:
                               and c.name in e.labels) for c in constraints]
         meta["independent"] = [eqs.q.index(q) for q in eqs.independent]
         meta["multiplier_outputs"] = {label: meta["constraints"].index(label)
-                                      for label, _ in outputs
+                                      for label, _, _ in outputs
                                       if label in meta["constraints"]}
     return meta, "\n".join(sources)
 
@@ -176,7 +209,8 @@ class Switches:
 
     def _locked(self, e):
         if isinstance(e, sp.Piecewise):
-            return sp.Piecewise(*[(value, self._condition(c)) for value, c in e.args])
+            return sp.Piecewise(*[(value, self._condition(c)) for value, c in e.args],
+                                evaluate=False)
         if isinstance(e, (sp.Min, sp.Max)):
             *rest, last = e.args
             chosen = last
@@ -208,11 +242,13 @@ class Switches:
         return sp.Or(sp.And(sp.Eq(flag, 0), condition), sp.And(sp.Ne(flag, 0), locked))
 
     def _flag(self, g):
-        for flag, f in zip(self.flags, self.functions):
-            if sp.expand(g - f) == 0:
-                return flag, 1
-            if sp.expand(g + f) == 0:
-                return flag, -1
+        """The flag of the (expanded) switching function ``g`` or of ``-g``, found by
+        their canonical forms (one lookup each, whatever the number of switches)."""
+        known = self.__dict__.setdefault("_known", {})
+        for key, orientation in ((g, 1), (sp.expand(-g), -1)):
+            if key in known:
+                return self.flags[known[key]], orientation
+        known[g] = len(self.functions)
         self.functions.append(g)
         self.flags.append(sp.Symbol(f"w{len(self.flags)}", real=True))
         return self.flags[-1], 1
@@ -288,70 +324,17 @@ def _terms_layout(n, mass, forcing, groups):
     return layout, exprs
 
 
-def _frozen_index(friction, eqs) -> int:
-    """The coordinate a stuck friction fixes, when its gradient is one constant entry:
-    a number, or parameters that are non-zero by their assumptions (a gear ratio
-    ``i``, positive)."""
+def _frozen_index(friction, state) -> int:
+    """The coordinate a stuck friction (or a stop in contact) fixes, when its gradient
+    is one entry free of the state (``state``: coordinates, speeds, time) that is a
+    number or non-zero by its parameters' assumptions (a gear ratio ``i``, positive)."""
     nonzero = [i for i, g in enumerate(friction.gradient) if g != 0]
     if len(nonzero) != 1:
         return -1
     entry = friction.gradient[nonzero[0]]
-    motion = set(eqs.q) | set(eqs.u) | {t}
-    if entry.is_number or (entry.is_nonzero and not entry.free_symbols & motion):
+    if not entry.free_symbols & state and (entry.is_number or entry.is_nonzero):
         return nonzero[0]
     return -1
-
-
-def _friction_signed(expr, eqs, signs):
-    """Replace ``sign(rate)`` of each friction by its run-time sign parameter."""
-    return sp.sympify(expr).xreplace({sp.sign(fr.rate): s for fr, s in zip(eqs.frictions, signs)})
-
-
-def _outputs(eqs, scene, elements) -> list:
-    """``(label, plain expression)`` for each requested output."""
-    if scene is None:
-        return []
-    result = []
-    for label, item in scene.labelled_outputs():
-        if isinstance(item, str):
-            if item.startswith("power:"):
-                name = item[len("power:"):]
-                if name not in eqs.powers:
-                    raise SceneError(f"scene {scene.name!r}: output {item!r}: no load "
-                                     f"{name!r} in the scene (loads: {sorted(eqs.powers)})")
-                result.append((label, eqs.powers[name]))
-                continue
-            if isinstance(elements.get(item), Constraint):   # its multipliers (simulate)
-                result += [(component, sp.S.Zero) for component in elements[item].labels]
-                continue
-            result.append((label, _element_output(eqs, scene, item, elements)))
-        elif isinstance(item, sp.Basic):
-            result.append((label, eqs.to_plain(sp.sympify(item))))
-        else:
-            raise SceneError(f"scene {scene.name!r}: output {item!r} is neither an element "
-                             "name, 'power:NAME', nor a sympy expression")
-    return result
-
-
-def _element_output(eqs, scene, name, elements):
-    element = elements.get(name) if name in eqs.elements else None
-    if element is None:
-        raise SceneError(f"scene {scene.name!r}: output {name!r} is not an element of the "
-                         f"scene (elements: {list(eqs.elements)})")
-    if isinstance(element, Spring):
-        return eqs.to_plain(element.k * element.stretch)
-    if isinstance(element, Damper):
-        stretch = eqs.to_plain(element.stretch)
-        rate = sum((sp.diff(stretch, q) * u for q, u in zip(eqs.q, eqs.u)), sp.S.Zero) \
-            + sp.diff(stretch, t)
-        return eqs.to_plain(element.c) * rate
-    if isinstance(element, Load):
-        return eqs.to_plain(element.value)
-    if isinstance(element, Friction):
-        fr = next(f for f in eqs.frictions if f.name == name)
-        return -fr.magnitude * sp.sign(fr.rate)
-    raise SceneError(f"scene {scene.name!r}: output {name!r}: a {type(element).__name__.lower()}"
-                     " has no single force to record; ask for an expression instead")
 
 
 # ------------------------------------------------------------ solving M a = f in code

@@ -64,6 +64,10 @@ class CompiledScene:
         self.event_kinds = [tuple(kind) for kind in meta["events"]]
         self.flags = sum(1 for kind, _ in self.event_kinds if kind == "switch")
         self.layout = {name: (offset, tuple(shape)) for name, offset, shape in meta["terms"]}
+        self._slices = [(name, offset, offset + int(np.prod(shape)), shape)
+                        for name, (offset, shape) in self.layout.items()]
+        self._lower = np.tril_indices(self.dof)
+        self._upper = (self._lower[1], self._lower[0])
         self._sizes = {"terms": sum(int(np.prod(shape)) for _, shape in self.layout.values()),
                        "events": len(self.event_kinds), "outputs": len(self.output_labels)}
         from . import loop_numeric
@@ -96,18 +100,17 @@ class CompiledScene:
         return out
 
     def terms(self, t_value, y, p) -> dict:
-        """The friction modes' pieces by name: ``mass`` (n x n), ``forcing``,
-        ``friction_gradient`` (k x n), ``friction_bias``, ``friction_magnitude``,
-        ``friction_rate``."""
-        flat = self._call("terms", t_value, y, p)
-        out = {}
-        for name, (offset, shape) in self.layout.items():
-            size = int(np.prod(shape))
-            out[name] = np.array(flat[offset:offset + size]).reshape(shape)
-        n = self.dof
-        mass = np.zeros((n, n))
-        mass[np.tril_indices(n)] = out["mass"]
-        out["mass"] = mass + np.tril(mass, -1).T
+        """The friction modes' pieces by name (:mod:`mechdyn.generate`): ``mass``
+        (n x n), ``forcing``, ``friction_gradient`` (k x n), ``friction_bias``,
+        ``friction_magnitude``, ``friction_rate``, ``friction_peak``, ``friction_release``,
+        the stops' ``contact_*``, the lossy gears' ``gear_law``, the loops'
+        ``constraint_*``."""
+        flat = np.array(self._call("terms", t_value, y, p))
+        out = {name: flat[start:stop].reshape(shape) for name, start, stop, shape in self._slices}
+        mass = np.empty((self.dof, self.dof))
+        mass[self._lower] = out["mass"]
+        mass[self._upper] = out["mass"]
+        out["mass"] = mass
         return out
 
     def events(self, t_value, y, p) -> list:

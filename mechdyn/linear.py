@@ -146,7 +146,7 @@ def _input_symbol(w, by_name, eqs):
 
 def _outputs(mechanism, eqs, outputs):
     """Labels and plain expressions of the outputs (all states by default)."""
-    from .generate import _element_output
+    from .output_code import _element_output
     if not outputs:
         states = list(eqs.q) + list(eqs.u)
         return [str(s) for s in states], states

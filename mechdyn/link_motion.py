@@ -14,6 +14,7 @@ import sympy as sp
 from .codegen import list_function
 from .derive import _efficiency_factor
 from .elements import Damper, Friction, Gravity, Joint, Link, Load, Spring
+from .unilateral import Stop
 from .errors import MechdynError
 from .symbols import t
 
@@ -71,6 +72,10 @@ class LinkMotion:
         for joint in self.joints.values():
             exprs += [self._plain(joint.at[0]), self._plain(joint.at[1]),
                       self._plain(joint.direction if joint.direction is not None else 0)]
+        if eqs.gears:
+            raise KinetostaticsError(f"lossy gear {eqs.gears[0].name!r}: its loss depends on "
+                                     "the power flow, which kinetostatics does not decide; "
+                                     "declare an ideal gear as a constraint instead")
         self.loads = self._loads()
         exprs += [value for _, value, _ in self.loads]
         arguments = [str(s) for s in (*eqs.q, *eqs.u, *accelerations)]
@@ -88,9 +93,10 @@ class LinkMotion:
         out = []
         for name in eqs.elements:
             element = self.mech.elements[name]
-            if isinstance(element, Friction):
-                raise KinetostaticsError(f"friction {name!r}: kinetostatics prescribes the "
-                                         "motion, leave Coulomb friction out of the scene")
+            if isinstance(element, (Friction, Stop)):
+                raise KinetostaticsError(f"{type(element).__name__.lower()} {name!r}: "
+                                         "kinetostatics prescribes the motion, leave "
+                                         "friction and stops out of the scene")
             if isinstance(element, Gravity):
                 g = self._plain(element.g)
                 for link_name, link in self.links.items():

@@ -19,10 +19,12 @@ from __future__ import annotations
 import sympy as sp
 from sympy.core.function import AppliedUndef
 
+from .couplings import Couplings
 from .elements import (FRAME, Constraint, Damper, Element, Friction, Gravity, Joint, Link,
                        Load, Spring)
 from .errors import DeclarationError
 from .symbols import is_coordinate, t
+from .unilateral import LossyGear, OneWayClutch, Stop
 
 __all__ = ["Mechanism"]
 
@@ -34,14 +36,19 @@ _ALLOWED = {
     (Spring, "k"): "qt", (Spring, "stretch"): "qt",
     (Damper, "c"): "qt", (Damper, "stretch"): "qt",
     (Gravity, "g"): "",
-    (Friction, "moment"): "qvt", (Friction, "along"): "qt",
+    (Friction, "moment"): "qvt", (Friction, "along"): "qt", (Friction, "peak"): "",
+    (OneWayClutch, "release"): "",
+    (Stop, "along"): "qt", (Stop, "lower"): "", (Stop, "upper"): "", (Stop, "restitution"): "",
+    (LossyGear, "eta_forward"): "qvt", (LossyGear, "eta_backward"): "qvt",
+    (LossyGear, "bearing_forward"): "qvt", (LossyGear, "bearing_backward"): "qvt",
     (Joint, "x"): "qt", (Joint, "y"): "qt", (Joint, "direction"): "qt",
 }
-_MUST_MOVE = {(Load, "along"), (Spring, "stretch"), (Damper, "stretch"), (Friction, "along")}
+_MUST_MOVE = {(Load, "along"), (Spring, "stretch"), (Damper, "stretch"), (Friction, "along"),
+              (Stop, "along")}
 _WORDS = {"q": "the coordinates", "v": "speeds", "t": "the time t"}
 
 
-class Mechanism:
+class Mechanism(Couplings):
     """A machine: generalized coordinates, links (inertia and kinematics) and loads.
 
     Parameters
@@ -168,9 +175,10 @@ class Mechanism:
         """Gravity ``g`` acting along -y on every link."""
         return self.add(Gravity(name, g=g, tags=tags))
 
-    def friction(self, name, moment, along, tags=()) -> Friction:
-        """Coulomb friction of magnitude ``moment`` along ``along`` (a brake)."""
-        return self.add(Friction(name, moment=moment, along=along, tags=tags))
+    def friction(self, name, moment, along, peak=1, tags=()) -> Friction:
+        """Coulomb friction of magnitude ``moment`` along ``along`` (a brake); at rest
+        it holds up to ``peak * moment`` (breakaway, static friction)."""
+        return self.add(Friction(name, moment=moment, along=along, peak=peak, tags=tags))
 
     def loop(self, name, *terms, tags=()) -> Constraint:
         """A closed vector loop ``sum length_i e^(i angle_i) = 0``: two scalar
@@ -250,14 +258,14 @@ class Mechanism:
 
     def _check_dependencies(self, element, attribute, expr):
         what = f"{type(element).__name__.lower()} {element.name!r}: {attribute} = {expr}"
-        if isinstance(element, Constraint):
+        if isinstance(element, Constraint) and attribute in element.labels:
             allowed = "qt"
             if not expr.atoms(AppliedUndef) & set(self.coordinates):
                 raise DeclarationError(
                     f"{what}: does not involve the coordinates {_names(self.coordinates)}; "
                     "a constraint must tie coordinates together")
         else:
-            allowed = _ALLOWED.get((type(element), attribute), "qt")  # points: like x, y
+            allowed = _rule(_ALLOWED, element, attribute, "qt")       # points: like x, y
         coords = set(self.coordinates)
         for d in expr.atoms(sp.Derivative):
             if d not in self._speeds:
@@ -277,7 +285,7 @@ class Mechanism:
             raise DeclarationError(f"{what}: must be constant, not depend on the coordinates")
         if "t" not in allowed and t in expr.free_symbols:
             raise DeclarationError(f"{what}: must not depend on the time t")
-        if (type(element), attribute) in _MUST_MOVE and not (expr.atoms(AppliedUndef) & coords):
+        if _rule(_MUST_MOVE, element, attribute) and not (expr.atoms(AppliedUndef) & coords):
             raise DeclarationError(
                 f"{what}: does not depend on the coordinates {_names(self.coordinates)}, "
                 "so it never moves and does no work")
@@ -399,6 +407,14 @@ class Mechanism:
     def __getstate__(self):
         """Pickled (e.g. for sweep workers) without the caches of derived equations."""
         return {**self.__dict__, "_derived": {}, "_memo": {}}
+
+
+def _rule(table, element, attribute, default=None):
+    """The entry of ``table`` for the element's class or its nearest base class."""
+    for cls in type(element).__mro__:
+        if (cls, attribute) in table:
+            return table[(cls, attribute)] if isinstance(table, dict) else True
+    return default
 
 
 def _names(coordinates):

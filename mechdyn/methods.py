@@ -171,7 +171,8 @@ class BackendPlan:
     once; ``"auto"`` starts on scipy unless the compiled form is in memory already, and
     moves to the kernels when a run proves long (the driver measures it) or when a stiff
     segment must meet a tolerance below ``STIFF_RTOL_FLOOR`` (the kernels' Rodas5P has no
-    floor). Segments with stuck friction elements or closed loops run on scipy.
+    floor). Segments with stuck friction elements, closed loops, stop limits (impacts
+    are jumps of the state) or lossy gears (their loss is decided per step) run on scipy.
     """
 
     def __init__(self, compiled, method, option):
@@ -196,7 +197,9 @@ class BackendPlan:
         return self.functions is not None
 
     def compilable(self, mode) -> bool:
-        return not mode.groups and not self.c.constraints
+        meta = self.c.meta
+        return not (mode.groups or self.c.constraints or meta.get("contacts")
+                    or meta.get("gears"))
 
     def method(self, name, mode) -> str:
         """The method a segment runs for a requested one: the kernels' own where they

@@ -27,6 +27,7 @@ from sympy.core.function import AppliedUndef
 from .elements import Damper, Friction, Link, Load, Spring
 from .errors import DeclarationError, ParameterError
 from .symbols import t
+from .unilateral import LossyGear, OneWayClutch, Stop
 
 __all__ = ["MechanismFacts", "facts_of", "scene_symbols", "check_values"]
 
@@ -49,7 +50,19 @@ _ROLES = {
     (Spring, "k"): ("nonnegative", "a stiffness must not be negative"),
     (Damper, "c"): ("nonnegative", "a damping coefficient must not be negative"),
     (Friction, "moment"): ("nonnegative", "a friction magnitude must not be negative"),
+    (Friction, "peak"): ("peak", "static friction is never below sliding friction"),
+    (OneWayClutch, "release"): ("nonnegative", "a release moment must not be negative"),
+    (Stop, "restitution"): ("fraction", "a coefficient of restitution lies in [0, 1]"),
+    (LossyGear, "eta_forward"): ("efficiency", "an efficiency must lie in (0, 1]"),
+    (LossyGear, "bearing_forward"): ("nonnegative", "a bearing moment must not be negative"),
+    (LossyGear, "bearing_backward"): ("nonnegative", "a bearing moment must not be negative"),
     (Load, "efficiency"): ("efficiency", "an efficiency must lie in (0, 1]"),
+}
+_FAULTS = {       # rule -> (test, how a value breaks it)
+    "efficiency": (lambda v: 0 < v <= 1, "lies outside (0, 1]"),
+    "fraction": (lambda v: 0 <= v <= 1, "lies outside [0, 1]"),
+    "peak": (lambda v: v >= 1, "is below 1"),
+    "nonnegative": (lambda v: v >= 0, "is negative"),
 }
 
 
@@ -79,10 +92,8 @@ def check_values(facts, numbers, symbols_named):
                 raise ParameterError(f"parameter {', '.join(sorted(names))}: {label}: "
                                      f"{attribute} = {expr} is not a finite real number "
                                      f"with {_values_text(names, numbers)}")
-        if rule == "efficiency":
-            fault = None if 0 < number <= 1 else "lies outside (0, 1]"
-        else:
-            fault = None if number >= 0 else "is negative"
+        holds, breaks = _FAULTS[rule]
+        fault = None if holds(number) else breaks
         if fault:
             where = "" if expr.is_Symbol else f" = {number:.6g}"
             raise ParameterError(
@@ -116,7 +127,8 @@ class MechanismFacts:
                             f"{_assumption_text(other)} and {_assumption_text(symbol)}); "
                             "declare each parameter once and reuse its symbol")
                     self.usage.setdefault(symbol.name, set()).add(label)
-                rule = _ROLES.get((type(element), attribute))
+                rule = next((_ROLES[(cls, attribute)] for cls in type(element).__mro__
+                             if (cls, attribute) in _ROLES), None)
                 if rule and free and not expr.has(AppliedUndef, sp.Derivative, t):
                     self.roles.append((label, attribute, expr, {s.name for s in free}, rule))
 

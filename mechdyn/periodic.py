@@ -266,11 +266,11 @@ def _problem(mechanism, scene, params, period, rtol, atol) -> _Problem:
                          "stop condition has no periodic regime to find; use a scene "
                          "without until=")
     eqs = mechanism.equations(scene)
-    if eqs.frictions:
-        raise PeriodicError(f"scene {scene.name!r}: Coulomb friction "
-                            f"({', '.join(fr.name for fr in eqs.frictions)}) switches "
-                            "between stick and slip; the periodic analysis needs smooth "
-                            "equations (leave friction out of the scene's effects)")
+    if eqs.switching:
+        raise PeriodicError(f"scene {scene.name!r}: Coulomb friction, stops or one-way "
+                            f"elements ({', '.join(eqs.switching)}) switch between "
+                            "modes; the periodic analysis needs smooth equations (leave "
+                            "them out of the scene's effects)")
     values = ParameterSet(params, mechanism=mechanism, scene=scene)
     params = values.numbers
     T = _period_value(period, params, mechanism, scene)

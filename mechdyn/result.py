@@ -18,6 +18,7 @@ import numpy as np
 
 from .errors import MechdynError
 from .events import Event
+from .mode_outputs import run_time_outputs
 from .trajectory import Trajectory
 
 __all__ = ["Result", "Event", "Trajectory"]
@@ -141,7 +142,7 @@ class Result:
 
         def evaluate(t, y, owner):
             mode = self.trajectory.segments[owner].mode
-            if mode.groups:
+            if mode.groups or self._modes.gears:        # constrained, or a gear's loss
                 return self._modes.accelerations(t, y, mode)[0]
             return np.array(self.compiled.rhs(t, y, self._modes.p(mode)))[n:]
         if not len(times):
@@ -151,7 +152,8 @@ class Result:
     @cached_property
     def outputs(self) -> dict:
         """Requested outputs at the step points, by label. A friction element's output is
-        the friction force acting (the holding force while stuck)."""
+        the friction force acting (the holding force while stuck), a stop's its contact
+        force, a lossy gear's its mesh moment (the moment its input passes into it)."""
         return self._outputs(self.t, self.y, self._owner)
 
     def outputs_at(self, times) -> dict:
@@ -164,10 +166,8 @@ class Result:
         labels = self.compiled.output_labels
         if not labels or not len(times):
             return {label: np.zeros(len(times)) for label in labels}
-        frictions = self.compiled.frictions
-        multipliers = getattr(self.compiled, "multiplier_outputs", {})   # closed loops
-
         multipliers = self.compiled.multiplier_outputs          # closed loops
+        items = self.compiled.meta.get("output_items", labels)
 
         def evaluate(t, y, owner):
             mode = self.trajectory.segments[owner].mode
@@ -176,12 +176,7 @@ class Result:
                 lam = self._modes.multipliers(t, y, mode)
                 for label, k in multipliers.items():
                     values[labels.index(label)] = lam[k]
-            if mode.groups:
-                _, forces = self._modes.accelerations(t, y, mode)
-                for i, label in enumerate(labels):
-                    if label in frictions and frictions.index(label) in mode.stuck:
-                        values[i] = forces[frictions.index(label)]
-            return values
+            return run_time_outputs(self._modes, t, y, mode, items, values)
         table = self._each_point(evaluate, times, states, owners)
         return {label: table[i] for i, label in enumerate(labels)}
 

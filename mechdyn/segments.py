@@ -5,7 +5,9 @@ it on scipy (:class:`~mechdyn.stepping.ScipySegment`) or on the compiled kernels
 The watched events are described once, for both backends, as :class:`Watched` entries:
 stop conditions and switching functions, the friction elements' sliding speeds (a
 sliding element sticks where its speed crosses zero) and magnitudes (a free element
-engages), all entries of the scene's generated ``events`` function; the release margin
+engages) and the gaps of open stop limits (a limit reached is an impact,
+:mod:`mechdyn.contacts`), all entries of the scene's generated ``events`` function; the
+release margin
 of a stuck group (it needs the constrained equations, so segments with stuck elements
 run on scipy); the largest minor of closed loops' constraints. Each entry carries the
 side its function counts as being on while exactly zero (:mod:`mechdyn.events`).
@@ -25,28 +27,32 @@ __all__ = ["Watched", "watched_events", "scipy_runner", "compiled_runner", "fast
 
 @dataclass(frozen=True)
 class Watched:
-    """One watched event: ``kind`` ("stop", "switch", "stick", "engage", "release",
-    "minor", "domain"), ``index`` (the entry of the generated ``events``; the group for a
-    release; the minor), ``element`` (the stop condition or friction element, else
-    -1), ``direction`` (+1, -1, 0) and ``side`` (+1/-1: the side a zero counts as; 0:
-    a zero takes the side the function moves to)."""
+    """One watched event: ``kind`` ("stop", "switch", "stick", "engage", "gap",
+    "release", "minor", "domain"), ``index`` (the entry of the generated ``events``; the
+    group for a release; the minor), ``element`` (the stop condition, friction element or
+    stop limit, else -1), ``direction`` (+1, -1, 0), ``side`` (+1/-1: the side a zero
+    counts as; 0: a zero takes the side the function moves to) and ``offset`` (the value
+    that counts as zero: a gap negative by rounding at the segment's start)."""
     kind: str
     index: int
     element: int
     direction: int
     side: int
+    offset: float = 0.0
 
     @property
     def compiled(self) -> bool:
         """Whether it is an entry of the generated ``events`` function."""
-        return self.kind in ("stop", "switch", "stick", "engage", "domain")
+        return self.kind in ("stop", "switch", "stick", "engage", "gap", "domain")
 
 
-def watched_events(compiled, scene, mode, muted, minor=None) -> list:
-    """The events of a segment with friction ``mode``: stop conditions, switching
-    functions (muted ones, which chattered, are unlocked and not watched) from the side
-    their flag locks, the friction events, and the closed loops' ``minor``
+def watched_events(modes, scene, mode, muted, t0, y0, minor=None) -> list:
+    """The events of a segment with friction ``mode`` starting at ``(t0, y0)``: stop
+    conditions, switching functions (muted ones, which chattered, are unlocked and not
+    watched) from the side their flag locks, the friction and stop-limit events of
+    ``modes`` (:class:`~mechdyn.friction.FrictionModes`), and the closed loops' ``minor``
     (``(index, direction)`` or None)."""
+    compiled = modes.c
     kinds = compiled.event_kinds
     stops = [i for i, (kind, _) in enumerate(kinds) if kind == "stop"]
     switches = [i for i, (kind, _) in enumerate(kinds) if kind == "switch"]
@@ -64,6 +70,9 @@ def watched_events(compiled, scene, mode, muted, minor=None) -> list:
     out += [Watched("domain", i, j, -1, 1) for j, i in enumerate(
         i for i, (kind, _) in enumerate(kinds) if kind == "domain")]
     out += [Watched("engage", magnitudes[k], k, 1, -1) for k in sorted(mode.free)]
+    gaps = [i for i, (kind, _) in enumerate(kinds) if kind == "gap"]
+    out += [Watched("gap", gaps[j], j, -1, 1, offset)
+            for kind, j, _, offset in modes.watched(mode, t0, y0) if kind == "gap"]
     if minor is not None:
         out.append(Watched("minor", minor[0], -1, int(minor[1]), 0))
     return out
@@ -72,14 +81,15 @@ def watched_events(compiled, scene, mode, muted, minor=None) -> list:
 def scipy_runner(context, mode, method, t0, y0, t_end, h, watched, rtol, atol, monitor,
                  segment, min_step, drift):
     """A :class:`ScipySegment` for ``mode``: the generated ``rhs`` (or the constrained
-    one of stuck elements), the analytic Jacobian for implicit methods, the watched
+    one of stuck elements and lossy gears), the analytic Jacobian for implicit methods, the watched
     events evaluated in Python."""
     c, modes = context.c, context.modes
     p = modes.p(mode)
     size = 2 * c.dof
-    fun = tolerant(modes.rhs(mode) or fast_rhs(c.raw["rhs"], p, size), (size,))
+    constrained = modes.rhs(mode)             # stuck elements or a lossy gear
+    fun = tolerant(constrained or fast_rhs(c.raw["rhs"], p, size), (size,))
     jac = None
-    if method in WITH_JACOBIAN and not mode.groups:
+    if method in WITH_JACOBIAN and constrained is None:
         jac = tolerant(lambda t, y: c.jac(t, y, p), (size, size))
     watch = _event_watch(c, modes, mode, p, watched)
     max_step = context.max_step if mode.groups else np.inf
@@ -90,7 +100,8 @@ def scipy_runner(context, mode, method, t0, y0, t_end, h, watched, rtol, atol, m
 
 def compiled_runner(context, functions, mode, method, t0, y0, t_end, h, watched, rtol,
                     atol, segment, switch):
-    """A :class:`CompiledSegment` (every watched event an entry of ``events``)."""
+    """A :class:`CompiledSegment` (every watched event an entry of ``events``, counting
+    zero as zero: no offset)."""
     from .compiled_stepping import CompiledSegment
     c = context.c
     spec = [(w.index, w.direction, w.side) for w in watched]
@@ -104,7 +115,8 @@ def _event_watch(c, modes, mode, p, watched):
     if not watched:
         return None
     size = len(c.event_kinds)
-    releases = [("release", w.index, w.direction) for w in watched if w.kind == "release"]
+    releases = [("release", w.index, w.direction, 0.0) for w in watched
+                if w.kind == "release"]
     raw_events = c.raw["events"]
 
     def values(t, y):
@@ -112,7 +124,7 @@ def _event_watch(c, modes, mode, p, watched):
         raw_events(t, _floats(y), p, out)
         margins = iter(modes.event_values(t, y, mode, releases))
         minors = c.loop_minors(t, y, p) if c.constraints else ()
-        return np.array([out[w.index] if w.compiled else
+        return np.array([out[w.index] - w.offset if w.compiled else
                          next(margins) if w.kind == "release" else minors[w.index]
                          for w in watched])
     watch = EventWatch(values, [w.direction for w in watched],

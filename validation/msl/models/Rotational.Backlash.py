@@ -14,8 +14,8 @@ counterparts:
   ``c (phi_rel - bMin)`` below bMin, 0 between, and ``tau_d = d w_rel``:
   above bMax ``tau = 0 if tau_c + tau_d <= 0 else tau_c + min(tau_c, tau_d)``; below bMin
   ``tau = 0 if tau_c + tau_d >= 0 else tau_c + max(tau_c, tau_d)``; 0 in the gap (the
-  damping is clamped so the contact never pulls). The inertia feels ``-tau``, here a
-  load ``-tau`` along ``phi_2`` written with Piecewise/Min/Max.
+  damping is clamped so the contact never pulls). The inertia feels ``-tau``: mechdyn's
+  ``backlash(..., c=, d=, gap=)`` (a load ``-tau`` along the stretch ``phi_2``).
 - ``inertia3`` on ``elastoBacklash2`` has no reference signal and is not modelled.
 
 Start: phi_1 = phi_2 = 1.570796326794897, at rest. Reference signals:
@@ -28,22 +28,12 @@ import mechdyn as md
 phi_1, phi_2 = md.coordinates("phi_1 phi_2")
 J, c, d, b = sp.symbols("J c d b", positive=True)
 
-b_max, b_min = b / 2, -b / 2
-tau_d = d * md.speed(phi_2)
-tau_above, tau_below = c * (phi_2 - b_max), c * (phi_2 - b_min)
-tau = sp.Piecewise(
-    (sp.Piecewise((0, tau_above + tau_d <= 0), (tau_above + sp.Min(tau_above, tau_d), True)),
-     phi_2 > b_max),
-    (sp.Piecewise((0, tau_below + tau_d >= 0), (tau_below + sp.Max(tau_below, tau_d), True)),
-     phi_2 < b_min),
-    (0, True))
-
 mechanism = md.Mechanism("MSL Rotational.Backlash", coordinates=[phi_1, phi_2])
 mechanism.link("inertia1", J=J, angle=phi_1)
 mechanism.link("inertia2", J=J, angle=phi_2)
 mechanism.spring("springDamper", c, stretch=phi_1)
 mechanism.damper("springDamper damping", d, stretch=phi_1)
-mechanism.load("elastoBacklash", -tau, along=phi_2)
+mechanism.backlash("elastoBacklash", phi_2, c=c, d=d, gap=b)
 
 params = {J: 5, c: 20e3, d: 50, b: 0.7853981633974483}
 

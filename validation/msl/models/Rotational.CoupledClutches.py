@@ -15,10 +15,9 @@ Interfaces/PartialFriction.mo) and their mechdyn counterparts:
   ``cos(0.4 pi t)``, negative after 1.25 s: free); clutch2 ``step1`` (startTime 0.4);
   clutch3 ``step2`` (startTime 0.9).
 
-Not yet expressible: static friction above sliding friction (peak = 1.1). The declaration
-below uses the proposed ``friction(..., peak=...)`` (validation/msl/NEEDS.md). With peak
-ignored, today's friction also holds clutch3 (zero torque capacity at rest) from the start,
-dragging J4 along: issue 14 defect 1.
+The static limit above the sliding torque is ``friction(..., peak=...)``. Before the
+friction state machine was rebuilt, clutch3 (zero torque capacity at rest) held from the
+start, dragging J4 along: issue 14 defect 1.
 
 Reference signals: J1.phi/w, clutch<i>.phi_rel/w_rel = phi_(i+1) - phi_i and its rate.
 """
@@ -26,7 +25,6 @@ import sympy as sp
 
 import mechdyn as md
 
-needs = "static peak friction: friction(..., peak=1.1) (Clutch.peak)"
 
 phi = md.coordinates("phi_1 phi_2 phi_3 phi_4")
 mu, fn_max, peak, cgeo = sp.symbols("mu fn_max peak cgeo", positive=True)

@@ -14,10 +14,9 @@ counterparts:
   ``torque2`` = ``load`` (Ramp height 5, duration 2, offset -10):
   ``-10 + 5 min(t/2, 1)`` along ``phi_b``.
 
-Not yet expressible: the lossy gear. The declaration uses the proposed
-``lossy_gear(name, input=, output=, ratio=, eta_forward=, eta_backward=,
-bearing_forward=, bearing_backward=)`` (validation/msl/NEEDS.md), which imposes
-``input = ratio * output`` between two coordinates.
+The gear is ``lossy_gear(name, input=, output=, ratio=, eta_forward=, eta_backward=,
+bearing_forward=, bearing_backward=)``, which imposes ``input = ratio * output`` between
+two coordinates and acts with the loss law (validation/msl/NEEDS.md).
 
 Reference signals: Inertia2.phi = phi_b, Inertia2.w = phi_b'.
 """
@@ -25,7 +24,6 @@ import sympy as sp
 
 import mechdyn as md
 
-needs = "lossy gear: lossy_gear(...) (LossyGear: efficiency by power-flow direction, locking)"
 
 phi_a, phi_b = md.coordinates("phi_a phi_b")
 t = md.t

@@ -13,7 +13,8 @@ Components/BearingFriction.mo) and their mechdyn counterparts:
 - ``Inertia2`` (J = 1.5, phi = w = 0 at the start), angle ``phi_b``, loaded by ``load``
   (Ramp height 5, duration 2, offset -10) through ``torque2``.
 
-Not yet expressible: the lossy gear (proposed ``lossy_gear``, validation/msl/NEEDS.md).
+Both stuck, the gear and the bearing hold together: the gear's holding interval depends
+on the bearing's share, so any share that holds keeps them stuck (validation/msl/NEEDS.md).
 
 Reference signals: Inertia2.phi = phi_b, Inertia2.w = phi_b'.
 """
@@ -21,7 +22,6 @@ import sympy as sp
 
 import mechdyn as md
 
-needs = "lossy gear: lossy_gear(...) (LossyGear: efficiency by power-flow direction, locking)"
 
 phi_a, phi_b = md.coordinates("phi_a phi_b")
 t = md.t

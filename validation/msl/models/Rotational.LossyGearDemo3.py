@@ -18,7 +18,7 @@ tau_bf_a = 0, quadrant 1 applies, tauLoss = 0.75 * 0.5 + 0.625 = 1 N m on a tota
 inertia of 0.002: -500 rad/s^2, rest at t = 0.02 s, phi_b = 0.1; then locked (the step of
 1 N m at 0.5 s cannot break it loose).
 
-Not yet expressible: the lossy gear (proposed ``lossy_gear``, validation/msl/NEEDS.md).
+The gear: ``lossy_gear`` (validation/msl/NEEDS.md).
 
 Reference signals: Inertia2.phi = phi_b, Inertia2.w = phi_b'.
 """
@@ -26,7 +26,6 @@ import sympy as sp
 
 import mechdyn as md
 
-needs = "lossy gear: lossy_gear(...) (LossyGear: efficiency by power-flow direction, locking)"
 
 phi_a, phi_b = md.coordinates("phi_a phi_b")
 t = md.t

@@ -15,8 +15,8 @@ counterparts:
 - ``signalEngagement`` (Pulse amplitude 1, width 50 %, period 1.3, startTime 0.3) ->
   ``f_normalized``: engaged on [0.3, 0.95) and [1.6, 2.25).
 
-Not yet expressible: the one-way clutch. The declaration uses the proposed
-``one_way_clutch(name, moment, along, peak=, release_free=)`` (validation/msl/NEEDS.md).
+The clutch: ``one_way_clutch(name, moment, along, peak=, release=)``
+(validation/msl/NEEDS.md).
 
 Reference signals: inertiaIn.phi/w, oneWayClutch.phi_rel/w_rel = phi_out - phi_in and its
 rate.
@@ -25,7 +25,6 @@ import sympy as sp
 
 import mechdyn as md
 
-needs = "one-way clutch: one_way_clutch(...) (freewheel in parallel with a clutch)"
 
 phi_in, phi_out = md.coordinates("phi_in phi_out")
 t = md.t
@@ -37,7 +36,7 @@ mechanism.link("inertiaIn", J=1, angle=phi_in)
 mechanism.link("inertiaOut", J=1, angle=phi_out)
 mechanism.load("torque", 10 * sp.sin(2 * sp.pi * 3 * t), along=phi_in)
 mechanism.one_way_clutch("oneWayClutch", mu * cgeo * fn_max * engaged, along=phi_out - phi_in,
-                         peak=25, release_free=1e-4 * mu * cgeo * fn_max)
+                         peak=25, release=1e-4 * mu * cgeo * fn_max)
 
 params = {}
 

@@ -13,8 +13,7 @@ mechdyn counterparts:
   freewheel locks and releases forward only when the holding torque exceeds
   ``tau0_max_low = 1e-4 mu cgeo fn_max = 1.5e-4 N m``.
 
-Not yet expressible: the one-way clutch (proposed ``one_way_clutch``,
-validation/msl/NEEDS.md).
+The clutch: ``one_way_clutch`` with no moment (validation/msl/NEEDS.md).
 
 Reference signals: inertiaIn.phi/w, oneWayClutch.phi_rel/w_rel = phi_out - phi_in and its
 rate.
@@ -23,7 +22,6 @@ import sympy as sp
 
 import mechdyn as md
 
-needs = "one-way clutch: one_way_clutch(...) (freewheel in parallel with a clutch)"
 
 phi_in, phi_out = md.coordinates("phi_in phi_out")
 t = md.t
@@ -35,7 +33,7 @@ mechanism.link("inertiaOut", J=1, angle=phi_out)
 mechanism.load("torque", 0.3 + 10 * sp.sin(2 * sp.pi * 2 * t), along=phi_in)
 mechanism.load("torqueLoad", -0.3, along=phi_out)
 mechanism.one_way_clutch("oneWayClutch", 0, along=phi_out - phi_in, peak=25,
-                         release_free=1e-4 * mu * cgeo * fn_max)
+                         release=1e-4 * mu * cgeo * fn_max)
 
 params = {}
 

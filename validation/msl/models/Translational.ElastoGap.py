@@ -13,7 +13,7 @@ counterparts. ``fixed`` is at 0, ``rod1`` (L = 2) puts its flange_a at -2, ``rod
   ElastoGap force at flange_b, in contact (``s_rel < s_rel0``):
   ``f_c = -c |s_rel - s_rel0|``, ``f_d2 = d v_rel`` clamped to ``[f_c, -f_c]``,
   ``f = f_c + f_d``; out of contact ``f = 0``. It pushes flange_b with ``-f`` along
-  ``s_rel``: a load ``-f`` along ``s_rel`` (Piecewise/Min/Max).
+  ``s_rel``: mechdyn's ``elasto_gap(name, s_rel, c, d, opening=s_rel0)``.
 
 Start: s_1 = s_2 = 2, at rest. Reference signals: elastoGap1.v_rel = s_2',
 elastoGap2.s_rel = 2 - s_2, springDamper1.v_rel = s_1', springDamper2.s_rel = 2 - s_1.
@@ -27,13 +27,6 @@ m, c, d, s_rel0_sd, s_rel0_gap, rod = sp.symbols("m c d s_rel0_sd s_rel0_gap rod
                                                  positive=True)
 
 
-def elasto_gap(s_rel, v_rel):
-    """ElastoGap's force f at flange_b (n = 1)."""
-    f_c = -c * (s_rel0_gap - s_rel)
-    return sp.Piecewise((f_c + sp.Max(f_c, sp.Min(-f_c, d * v_rel)), s_rel < s_rel0_gap),
-                        (0, True))
-
-
 gap1, gap2 = s_2 + rod, rod - s_2
 
 mechanism = md.Mechanism("MSL Translational.ElastoGap", coordinates=[s_1, s_2],
@@ -43,8 +36,8 @@ mechanism.link("mass2", m=m, x=s_2)
 for name, s_rel in (("springDamper1", s_1 + rod), ("springDamper2", rod - s_1)):
     mechanism.spring(name, c, stretch=s_rel - s_rel0_sd)
     mechanism.damper(f"{name} damping", d, stretch=s_rel)
-mechanism.load("elastoGap1", -elasto_gap(gap1, md.speed(s_2)), along=gap1)
-mechanism.load("elastoGap2", -elasto_gap(gap2, -md.speed(s_2)), along=gap2)
+mechanism.elasto_gap("elastoGap1", gap1, c, d, opening=s_rel0_gap)
+mechanism.elasto_gap("elastoGap2", gap2, c, d, opening=s_rel0_gap)
 
 params = {m: 1, c: 10, d: 1.5, s_rel0_sd: 1, s_rel0_gap: 1.5, rod: 2}
 

@@ -25,13 +25,10 @@ their mechdyn counterparts:
   ``s`` to the limit and ``v`` to 0 (a perfectly plastic impact), and the friction state
   machine lets the mass leave the stop only away from it.
 
-Not yet expressible: static friction above sliding friction (peak 1.001 of
-MassWithStopAndFriction) and the hard stop with velocity reset. The declaration uses the
-proposed ``friction(..., peak=...)`` and ``stop(...)`` (validation/msl/NEEDS.md). The
-``mass`` subsystem alone is expressible today (plain Coulomb friction with a tabulated
-magnitude; parts/Translational.Friction.mass.py) and shows issue 14 defect 3: it sits
-stuck at rest, the sine force exceeds the holding capacity between two step ends, and
-the release is missed.
+Declared with ``friction(..., peak=1.001)``, ``stop(...)`` and ``bearing_friction`` with
+an ``md.table`` (validation/msl/NEEDS.md). The ``mass`` subsystem alone
+(parts/Translational.Friction.mass.py) pins issue 14 defect 3: stuck at rest, the sine
+force exceeds the holding capacity between two step ends.
 
 Reference signals: mass.s/v, stop1.s/v, stop2.s/v (the centres and their speeds).
 """
@@ -41,8 +38,6 @@ import sympy as sp
 
 import mechdyn as md
 
-needs = ("static peak friction: friction(..., peak=1.001) (MassWithStopAndFriction "
-         "f0_max); hard stop with velocity reset: stop(..., lower=, upper=) (stop2)")
 
 s_1, s_m, s_2 = md.coordinates("s_1 s_m s_2")
 t = md.t
@@ -51,20 +46,11 @@ force = 25 * sp.sin(2 * sp.pi * 0.25 * t)
 
 def stribeck(v, F_prop, F_Coulomb, F_Stribeck, fexp):
     """Magnitude of MassWithStopAndFriction's sliding force at speed v (either sign)."""
-    speed = sp.Piecewise((v, v >= 0), (-v, True))
-    return F_prop * speed + F_Coulomb + F_Stribeck * sp.exp(-fexp * speed)
+    return F_prop * sp.Abs(v) + F_Coulomb + F_Stribeck * sp.exp(-fexp * sp.Abs(v))
 
 
-def table(points, x):
-    """Linear interpolation in ``points`` (x ascending), extrapolated through the last two."""
-    pieces = []
-    for (x0, y0), (x1, y1) in zip(points[:-1], points[1:]):
-        pieces.append((y0 + (y1 - y0) / (x1 - x0) * (x - x0), x < x1))
-    pieces[-1] = (pieces[-1][0], True)
-    return sp.Piecewise(*pieces)
-
-
-f_pos = [(12 * i / 49, 5 + 12 * i / 49 + 10 * math.exp(-2 * 12 * i / 49)) for i in range(50)]
+f_pos = md.table([12 * i / 49 for i in range(50)],
+                 [5 + 12 * i / 49 + 10 * math.exp(-2 * 12 * i / 49) for i in range(50)])
 v_m = md.speed(s_m)
 
 mechanism = md.Mechanism("MSL Translational.Friction", coordinates=[s_1, s_m, s_2],
@@ -76,9 +62,7 @@ mechanism.friction("stop1 friction", stribeck(md.speed(s_1), 1, 5, 10, 2), along
 mechanism.stop("stop1 stops", along=s_1, lower=-25 + 0.5, upper=25 - 0.5)
 mechanism.link("mass", m=1, x=s_m)
 mechanism.load("force2", force, along=s_m)
-mechanism.friction("supportFriction",
-                   sp.Piecewise((table(f_pos, v_m), v_m >= 0), (table(f_pos, -v_m), True)),
-                   along=s_m)
+mechanism.bearing_friction("supportFriction", f_pos, along=s_m)
 mechanism.link("stop2", m=1, x=s_2)
 mechanism.spring("spring", 500, stretch=(s_2 - 0.5) + 1.75 - 1)
 mechanism.friction("stop2 friction", stribeck(md.speed(s_2), 1, 3, 5, 2), along=s_2,

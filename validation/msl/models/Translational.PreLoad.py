@@ -23,7 +23,7 @@ the right housing wall at -0.065. Masses (flanges at centre -+ L/2):
   spool's flange_a: ``s_S - 0.08925``): ``s_rel = (s_S - 0.08925) - (s_B - 0.008)``.
 - ElastoGap force at flange_b, in contact (``s_rel < s_rel0``):
   ``f_c = -c |s_rel - s_rel0|``, ``f_d2 = d v_rel`` clamped to ``[f_c, -f_c]``,
-  ``f = f_c + f_d``, else 0; a load ``-f`` along ``s_rel``.
+  ``f = f_c + f_d``, else 0; pushing ``-f`` along ``s_rel``: ``elasto_gap(...)``.
 - ``friction`` (a Damper, d = 2500) from fixedLe to rod3.flange_a: damps ``s_S``.
 - ``sineForce`` (amplitude 150, f = 0.01 Hz) -> ``force`` on the spool: along ``s_S``.
 
@@ -42,14 +42,6 @@ m_plate, m_spool, c_spring, c_gap, d_gap, d_friction, amplitude, f = sp.symbols(
     "m_plate m_spool c_spring c_gap d_gap d_friction amplitude f", positive=True)
 
 
-def elasto_gap(s_rel, s_rel0):
-    """ElastoGap's force f at flange_b (n = 1), for a gap expression of the coordinates."""
-    v_rel = sum(sp.diff(s_rel, q) * md.speed(q) for q in (s_A, s_B, s_S))
-    f_c = -c_gap * (s_rel0 - s_rel)
-    return sp.Piecewise((f_c + sp.Max(f_c, sp.Min(-f_c, d_gap * v_rel)), s_rel < s_rel0),
-                        (0, True))
-
-
 gaps = {
     "outerContactA": ((s_A - 0.001) + 0.0955, 0.0015),
     "outerContactB": (-0.065 - (s_B + 0.001), 0.0015),
@@ -64,7 +56,7 @@ mechanism.link("springPlateB", m=m_plate, x=s_B)
 mechanism.link("spool", m=m_spool, x=s_S)
 mechanism.spring("spring", c_spring, stretch=(s_B - 0.001) - (s_A + 0.001) - 0.025)
 for name, (s_rel, s_rel0) in gaps.items():
-    mechanism.load(name, -elasto_gap(s_rel, s_rel0), along=s_rel)
+    mechanism.elasto_gap(name, s_rel, c_gap, d_gap, opening=s_rel0)
 mechanism.damper("friction", d_friction, stretch=s_S)
 mechanism.load("force", amplitude * sp.sin(2 * sp.pi * f * md.t), along=s_S)
 
