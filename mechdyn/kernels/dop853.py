@@ -20,6 +20,8 @@ SAFETY = 0.9
 MIN_FACTOR = 0.333   # dop853.f FAC1: the new step is at least 0.333 the old one
 MAX_FACTOR = 6.0     # dop853.f FAC2: ... and at most 6 times
 EXPONENT = 1.0 / 8.0
+BLIND_DROP = 1e-2    # an estimate this far below the last trusted one is taken as blind
+TRUST_DECAY = 0.1    # ... and the trusted value decays so a real fall of the error shows
 
 
 @njit
@@ -70,6 +72,23 @@ def step_factor(err, rejected_before):
     if err <= 1.0 and rejected_before:
         factor = min(factor, 1.0)
     return factor
+
+
+@njit(inline="always")
+def blind_guard(err, trusted):
+    """The step factor's cap and the new trusted error after an accepted step.
+
+    The embedded estimate vanishes where the estimated local error changes sign; when one
+    state carries the error (a one-DOF machine, whose angle grows without bound) this
+    happens once per revolution, and the controller would grow the step up to 6-fold
+    into a step whose true error is 6**9 times the tolerance. An estimate more than
+    ``1/BLIND_DROP`` below the last trusted one does not grow the step; the trusted value
+    decays by ``TRUST_DECAY`` per such step, so a genuine fall of the error (a motion
+    settling) lets the step grow again after a few steps.
+    """
+    if trusted > 0.0 and err < BLIND_DROP * trusted:
+        return 1.0, TRUST_DECAY * trusted
+    return MAX_FACTOR, err
 
 
 @njit(inline="always")

@@ -37,7 +37,7 @@ IGNORED = 2     #: do not watch this event function
 T = 0               #: current time
 H = 1               #: step size to try next (<= 0: the kernel chooses one)
 H_ACCEPTED = 2      #: last accepted step (RODAS5P's predictive controller; 0: none yet)
-ERR_ACCEPTED = 3    #: its error norm
+ERR_ACCEPTED = 3    #: its error norm (DOP853: the last trusted one, see blind_guard)
 REJECTED = 4        #: 1 if the last attempt was rejected (no growth on the next step)
 STIFF_HITS = 5      #: DOP853: stiffness-test hits since the last quiet spell (IASTI)
 QUIET_STEPS = 6     #: DOP853: non-stiff test results since the last hit (NONSTI);

@@ -214,7 +214,8 @@ def _compile(fingerprint):
 
             counts[NACCEPT] += 1
             if method == DOP853:
-                h_next = h * dop853.step_factor(err, rejected)
+                cap, err_accepted = dop853.blind_guard(err, err_accepted)
+                h_next = h * min(cap, dop853.step_factor(err, rejected))
                 h_rho = dop853.stiffness_estimate(h, K, y_stage, y_new)
                 if h_rho > STIFF_LIMIT:
                     stiff_hits += 1
