@@ -1,16 +1,18 @@
 """Mutation testing of mechdyn's core with mutmut 3: how many deliberately broken
 versions of the code the test suite catches, per module.
 
-    python benchmarks/mutation.py --fast              # reduction, modal, codegen: minutes
+    python benchmarks/mutation.py --fast              # reduction, codegen: minutes
     python benchmarks/mutation.py --full              # every core module: hours on 2 cores
     python benchmarks/mutation.py --modules derive analytic
     python benchmarks/mutation.py --report            # the table of the last run, no run
+    python benchmarks/mutation.py --fast --survivors  # rerun only the last survivors
 
 mutmut copies the package to ``mutants/`` with every mutant built in, runs the suite once
 to learn which tests reach which function, then runs for each mutant only those tests
 (``-x``: the first failure kills it) in a fresh forked process. Configuration:
 ``[tool.mutmut]`` in pyproject.toml. Results accumulate in ``mutants/``; a mutant already
-decided is not rerun (delete ``mutants/`` after editing the tests to start over).
+decided is not rerun: after adding tests, ``--survivors`` retries the survivors, and
+deleting ``mutants/`` starts over.
 ``mutmut show NAME`` prints a mutant's diff, ``mutmut browse`` lists them interactively.
 Scores and the account of every survivor: docs/mutation.md.
 """
@@ -28,19 +30,25 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 CORE = ["derive", "codegen", "compile", "simulate", "stepping", "analytic", "periodic",
         "fluctuation", "modal", "reduction"]
-FAST = ["reduction", "modal", "codegen"]
+FAST = ["reduction", "codegen"]
 STATUS = {1: "killed", 3: "killed", 0: "survived", 5: "no tests", 33: "no tests",
           36: "timeout", -24: "timeout", 24: "timeout", 152: "timeout", 255: "timeout",
           None: "not run"}
 
 
-def run(modules, workers):
-    """``mutmut run`` on the mutants of ``modules``; mutmut's own exit status."""
+def run(modules, workers, survivors=False):
+    """``mutmut run`` on the mutants of ``modules`` (with ``survivors``: on the mutants
+    that survived the last run, to try new tests on them); mutmut's own exit status."""
     # mutants/ must exist before Python starts: a PYTHONPATH entry missing at start-up is
     # remembered as empty, and mechdyn would be imported from elsewhere.
     (ROOT / "mutants").mkdir(exist_ok=True)
     env = dict(os.environ, MECHDYN_CACHE="off", PYTHONPATH=str(ROOT / "mutants"))
     names = [f"mechdyn.{module}.*" for module in modules]
+    if survivors:
+        names = sorted(name for module in modules for name, outcome in
+                       outcomes(module).items() if outcome in ("survived", "no tests"))
+        if not names:
+            return 0
     command = ["mutmut", "run", "--max-children", str(workers), *names]
     print("$", " ".join(command), flush=True)
     return subprocess.run(command, cwd=ROOT, env=env).returncode
@@ -87,10 +95,12 @@ def main(argv=None):
     which.add_argument("--modules", nargs="+", choices=CORE, metavar="MODULE",
                        help=f"some of {', '.join(CORE)}")
     which.add_argument("--report", action="store_true", help="print the last results only")
+    parser.add_argument("--survivors", action="store_true",
+                        help="rerun only the mutants that survived the last run")
     parser.add_argument("--workers", type=int, default=os.cpu_count() or 2)
     args = parser.parse_args(argv)
     modules = FAST if args.fast else CORE if args.full or args.report else args.modules
-    status = 0 if args.report else run(modules, args.workers)
+    status = 0 if args.report else run(modules, args.workers, args.survivors)
     print(table(modules))
     return status
 
