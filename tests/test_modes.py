@@ -134,3 +134,23 @@ def test_bad_values_name_the_parameter_or_the_operating_point():
         md.natural_frequencies(oscillator(k), params={k: float("nan")})
     with pytest.raises(md.ParameterError, match=r"^operating point x\(t\): "):
         md.natural_frequencies(oscillator(1), at={x: float("inf")})
+
+
+def test_fixed_free_chain_of_three_has_the_closed_form_frequencies_and_shapes():
+    # N equal masses m in a chain, the first tied to the ground, springs k: omega_j =
+    # 2 sqrt(k/m) sin((2j - 1) pi / (2 (2N + 1))), shape x_n ~ sin(n (2j - 1) pi /
+    # (2N + 1)) (the standard fixed-free chain). N = 3, k = m = 1.
+    a, b, d = md.coordinates("a b d")
+    chain = md.Mechanism("chain", [a, b, d])
+    for name, q in (("m1", a), ("m2", b), ("m3", d)):
+        chain.link(name, m=1, x=q)
+    chain.spring("k1", 1, stretch=a)
+    chain.spring("k2", 1, stretch=b - a)
+    chain.spring("k3", 1, stretch=d - b)
+    modes = md.natural_frequencies(chain)
+    expected = [2 * math.sin((2 * j - 1) * math.pi / 14) for j in (1, 2, 3)]
+    assert modes.omega == pytest.approx(expected, rel=1e-12)
+    shapes = np.array([[math.sin(n * (2 * j - 1) * math.pi / 7) for j in (1, 2, 3)]
+                       for n in (1, 2, 3)])
+    shapes /= shapes[np.argmax(np.abs(shapes), axis=0), range(3)]   # largest +1
+    assert modes.shapes == pytest.approx(shapes, rel=1e-10, abs=1e-12)
