@@ -75,6 +75,8 @@ def test_steady_running_summary_and_figure_show_the_cycle():
     running = md.steady_running(mech, scene, {J: 2.0})
     text = running.summary()
     assert text.startswith("machine — scene 'run': steady running over a cycle of 6.28319 rad")
+    assert len(text.splitlines()) == 5
+    assert text.splitlines()[1].startswith("  periodic state at phi = ")
     mean = numbers_after("mean speed", text)[0]
     assert mean == pytest.approx(110.0, rel=1e-4)
     delta = numbers_after("coefficient of speed fluctuation delta =", text)[0]
@@ -130,3 +132,4 @@ def test_equations_display_as_latex_in_jupyter():
     disc.link("disc", J=2, angle=phi)
     disc.load("drive", 6, along=phi)
     assert disc.equations()._repr_latex_() == r"$\displaystyle 2 \ddot{\phi} = 6$"
+
