@@ -1,6 +1,8 @@
 """Closed forms and inverse dynamics in detail: the printed solution, the classification
 of a scene (not of the whole mechanism), parameters that remove a dependence, and the
 driving moment of a uniformly accelerated disc with Coulomb friction, by hand."""
+import math
+
 import pytest
 import sympy as sp
 
@@ -88,5 +90,41 @@ def test_uniformly_accelerated_disc_needs_J_eps_plus_friction_against_the_motion
     (lambda: md.uniform_acceleration(3, phi0="1"), "phi0"),
 ])
 def test_uniform_acceleration_names_a_bad_argument(call, culprit):
+    with pytest.raises(md.DeclarationError, match=rf"^{culprit}: got the string"):
+        call()
+
+
+@pytest.mark.parametrize("omega, moment", [(10, 5), (-10, -5)])
+def test_uniform_rotation_of_a_braked_disc_needs_the_friction_moment(omega, moment):
+    # Constant speed: no inertia term; friction 5 against the sense of rotation.
+    motion = md.uniform_rotation(omega, phi0=2)
+    assert motion.law == 2 + omega * md.t
+    assert float(motion.window) == pytest.approx(2 * math.pi / 10)     # one revolution
+    drive = md.driving_moment(braked_disc(), motion, drive="drive")
+    assert drive.expression == moment and drive.mean == pytest.approx(moment)
+    assert drive.rms == pytest.approx(abs(moment))
+
+
+def test_statistics_need_a_time_window_and_every_parameter():
+    J = sp.Symbol("J", positive=True)
+    disc = md.Mechanism("disc", [phi])
+    disc.link("disc", J=J, angle=phi)
+    disc.load("drive", 0, along=phi)
+    no_window = md.driving_moment(braked_disc(), md.uniform_acceleration(3), drive="drive")
+    with pytest.raises(md.ParameterError, match=r"no numeric time window \(give duration=\)"):
+        no_window.mean
+    unknown = md.driving_moment(disc, md.uniform_acceleration(3, duration=1), drive="drive")
+    with pytest.raises(md.ParameterError, match=r"give values of \['J'\]"):
+        unknown.mean
+    known = md.driving_moment(disc, md.uniform_acceleration(3, duration=1), {J: 2},
+                              drive="drive")
+    assert known.mean == pytest.approx(6.0)
+
+
+@pytest.mark.parametrize("call, culprit", [
+    (lambda: md.uniform_rotation("10"), "uniform_rotation: omega"),
+    (lambda: md.uniform_rotation(10, phi0="1"), "phi0"),
+])
+def test_uniform_rotation_names_a_bad_argument(call, culprit):
     with pytest.raises(md.DeclarationError, match=rf"^{culprit}: got the string"):
         call()

@@ -119,3 +119,31 @@ def test_multipliers_are_written_as_complex_numbers_or_reals():
     assert sorted(real.multipliers.real) == pytest.approx(
         sorted(math.exp(s * 2 * math.pi) for s in poles), rel=1e-6)
     assert ", ".join(f"{m.real:.6g}" for m in real.multipliers) in str(real)
+
+
+@pytest.mark.parametrize("forcing, period", [
+    (sp.cos(2 * md.t) + sp.sin(3 * md.t), 2 * math.pi),          # gcd of 2 and 3 is 1
+    (sp.cos(1.5 * md.t) + sp.cos(2.5 * md.t), 4 * math.pi),      # rates 3/2, 5/2: 1/2
+    (sp.cos(4 * md.t) * sp.sin(6 * md.t), math.pi),              # rates 4, 6: 2
+])
+def test_forcing_period_is_the_common_period_of_all_frequencies(forcing, period):
+    mech = md.Mechanism("forced", [x])
+    mech.link("mass", m=1, x=x)
+    mech.spring("spring", 1, stretch=x)
+    mech.load("force", forcing, along=x)
+    scene = md.Scene("s", initial={x: 0, md.speed(x): 0}, t_end=1)
+    assert md.forcing_period(mech, scene, {}) == pytest.approx(period, rel=1e-12)
+
+
+def test_forcing_period_follows_the_scene_and_needs_the_frequency_value():
+    mech, scene = linear()
+    free = replace(scene, effects=["spring", "damper"])       # the force left out
+    with pytest.raises(md.PeriodicError, match="do not depend on t"):
+        md.forcing_period(mech, free, {})
+    symbolic = md.Mechanism("forced", [x])
+    symbolic.link("mass", m=1, x=x)
+    symbolic.spring("spring", 1, stretch=x)
+    symbolic.load("force", sp.cos(W * md.t), along=x)
+    with pytest.raises(md.PeriodicError, match=r"cannot infer the period from cos\(Omega\*t\)"):
+        md.forcing_period(symbolic, scene, {})
+    assert md.forcing_period(symbolic, scene, {W: 2.0}) == pytest.approx(math.pi)
