@@ -147,3 +147,17 @@ def test_forcing_period_follows_the_scene_and_needs_the_frequency_value():
     with pytest.raises(md.PeriodicError, match=r"cannot infer the period from cos\(Omega\*t\)"):
         md.forcing_period(symbolic, scene, {})
     assert md.forcing_period(symbolic, scene, {W: 2.0}) == pytest.approx(math.pi)
+
+
+@pytest.mark.parametrize("options", [{"method": "Radau"},
+                                     {"atol": {x: 1e-12, md.speed(x): 1e-12}}],
+                         ids=["implicit", "per-state atol"])
+def test_linear_steady_state_with_an_implicit_method_or_per_state_tolerances(options):
+    # The method of initial parameters with Radau (analytic Jacobian) and with atol per
+    # state: the closed form x(0) = F (k - W^2) / D^2, x'(0) = F c W^2 / D^2.
+    mech, scene = linear()
+    steady = md.periodic_steady_state(mech, replace(scene, **options), {})
+    assert steady.method == "initial parameters"
+    assert steady.initial["x"] == pytest.approx(F_ * (K_ - W_ ** 2) / D2, abs=1e-8)
+    assert steady.initial["xdot"] == pytest.approx(F_ * C_ * W_ ** 2 / D2, abs=1e-8)
+    assert steady.at(2.0)["x"] == pytest.approx(exact(2.0), abs=1e-8)
