@@ -128,3 +128,13 @@ def test_statistics_need_a_time_window_and_every_parameter():
 def test_uniform_rotation_names_a_bad_argument(call, culprit):
     with pytest.raises(md.DeclarationError, match=rf"^{culprit}: got the string"):
         call()
+
+
+def test_driving_moment_takes_the_loads_of_the_scene_only():
+    # Without the bearing friction in the scene, only J eps = 2 * 3 = 6 is needed.
+    disc = braked_disc()
+    scene = md.Scene("frictionless", effects=["drive"], initial={phi: 0, md.speed(phi): 4},
+                     t_end=1)
+    motion = md.uniform_acceleration(3, omega0=4, duration=0.5)
+    assert md.driving_moment(disc, motion, scene=scene, drive="drive").expression == 6
+    assert md.driving_moment(disc, motion, drive="drive").expression == 11
