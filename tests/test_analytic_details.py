@@ -138,3 +138,18 @@ def test_driving_moment_takes_the_loads_of_the_scene_only():
     motion = md.uniform_acceleration(3, omega0=4, duration=0.5)
     assert md.driving_moment(disc, motion, scene=scene, drive="drive").expression == 6
     assert md.driving_moment(disc, motion, drive="drive").expression == 11
+
+
+def test_released_from_rest_the_sense_of_motion_comes_from_the_moment():
+    # J = 2 on a spring k = 8 released at phi = 1: the spring pulls back, so the speed is
+    # negative: omega(phi) = -sqrt(k/J (1 - phi^2)) = -2 sqrt(1 - phi^2); phi = 0 is
+    # reached after a quarter period, pi/2 sqrt(J/k) = pi/4, at omega = -2.
+    disc = md.Mechanism("disc", [phi])
+    disc.link("disc", J=2, angle=phi)
+    disc.spring("spring", 8, stretch=phi)
+    release = md.Scene("release", initial={phi: 1, md.speed(phi): 0},
+                       until=md.reaches(phi, 0))
+    sol = md.closed_form(disc, release, {})
+    assert float(sol.stop.t) == pytest.approx(math.pi / 4, rel=1e-9)
+    assert float(sol.stop.omega) == pytest.approx(-2.0, rel=1e-12)
+    assert sol.function("omega(phi)")(0.5) == pytest.approx(-2 * math.sqrt(0.75), rel=1e-12)
