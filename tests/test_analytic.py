@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import sympy as sp
+from scipy.integrate import quad
 
 import mechdyn as md
 from mechdyn.cli import main
@@ -316,6 +317,13 @@ def test_speed_dependent_moment_without_antiderivative_uses_quadrature_and_agree
     res = mech.simulate(tight(coast), {})
     assert res.t_end == pytest.approx(float(sol.stop.t), rel=1e-8)
     assert res.final(phi) == pytest.approx(float(sol.stop.phi), rel=1e-8)
+    # Both against the quadratures written here: J w' = -(1 + w + e^-w), so
+    # t_stop = int_0^10 J dw / (1 + w + e^-w), phi_stop = int_0^10 J w dw / (1 + w + e^-w).
+    t_stop = quad(lambda w: 2 / (1 + w + math.exp(-w)), 0, 10, epsabs=1e-13, epsrel=1e-13)[0]
+    phi_stop = quad(lambda w: 2 * w / (1 + w + math.exp(-w)), 0, 10, epsabs=1e-13,
+                    epsrel=1e-13)[0]
+    assert res.t_end == pytest.approx(t_stop, rel=1e-8)
+    assert res.final(phi) == pytest.approx(phi_stop, rel=1e-8)
 
 
 def test_coasting_yoke_stops_at_its_turning_point_and_never_reaches_beyond():
@@ -342,3 +350,15 @@ def test_kloss_start_up_gives_t_of_omega_without_hanging_on_its_inversion():
     assert "omega(t)" not in sol.relations and not sol.quadrature
     res = motor.mechanism.simulate(tight(start), motor.params)
     assert res.t_end == pytest.approx(float(sol.stop.t), rel=1e-8)
+    # Both against the quadrature written here: (J_m + J_f) w' = M_kloss(w) - M_L with
+    # M_kloss = 2 M_k / (s/s_k + s_k/s), s = 1 - w/omega_s, from rest to 95 % of the
+    # steady speed omega_s (1 - s_0), s_0 = s_k (M_k - sqrt(M_k^2 - M_L^2)) / M_L.
+    J, M_k, s_k, w_s, M_L = 5.0, 200.0, 0.2, 157.08, 60.0
+    s_0 = s_k * (M_k - math.sqrt(M_k**2 - M_L**2)) / M_L
+
+    def moment(w):
+        slip = 1 - w / w_s
+        return 2 * M_k / (slip / s_k + s_k / slip) - M_L
+    t_stop = quad(lambda w: J / moment(w), 0, 0.95 * w_s * (1 - s_0), epsabs=1e-13,
+                  epsrel=1e-13)[0]
+    assert res.t_end == pytest.approx(t_stop, rel=1e-8)

@@ -115,6 +115,39 @@ def test_shooting_and_initial_parameters_agree_on_a_linear_system():
     assert direct.closure < 1e-8
 
 
+def test_periodic_state_of_the_linear_system_is_periodic_by_an_independent_integration():
+    # The test above compares two of mechdyn's methods; here the equations are written by
+    # hand and integrated with scipy alone: a'' = -(3 + cos 2t) a - 5 (a - b),
+    # 2 b'' = 5 (a - b) - 0.3 b' + sin t. The steady state returns to itself after
+    # T = 2 pi, and the Floquet multipliers are the eigenvalues of the monodromy matrix
+    # of the homogeneous system (unit initial vectors integrated over T).
+    from scipy.integrate import solve_ivp
+    a, b = md.coordinates("a b")
+    mech = md.Mechanism("two masses, pumped spring", [a, b])
+    mech.link("mass a", m=1, x=a)
+    mech.link("mass b", m=2, x=b)
+    mech.spring("ground", 3 + sp.cos(2 * md.t), stretch=a)
+    mech.spring("coupling", 5, stretch=a - b)
+    mech.damper("damper", 0.3, stretch=b)
+    mech.load("force", sp.sin(md.t), along=b)
+    scene = md.Scene("steady", initial={a: 0.1, b: 0, md.speed(a): 0, md.speed(b): 0},
+                     t_end=1)
+    steady = md.periodic_steady_state(mech, scene, {}, method="shooting")
+
+    def rhs(t, y, forced=True):
+        qa, qb, ua, ub = y
+        return [ua, ub, -(3 + math.cos(2 * t)) * qa - 5 * (qa - qb),
+                (5 * (qa - qb) - 0.3 * ub + (math.sin(t) if forced else 0.0)) / 2]
+    period = 2 * math.pi
+    end = solve_ivp(rhs, (0, period), steady.y0, method="DOP853", rtol=1e-12, atol=1e-13)
+    assert end.y[:, -1] == pytest.approx(steady.y0, abs=1e-8)
+    monodromy = np.column_stack([
+        solve_ivp(rhs, (0, period), unit, method="DOP853", rtol=1e-12, atol=1e-13,
+                  args=(False,)).y[:, -1] for unit in np.eye(4)])
+    assert np.sort_complex(steady.floquet.multipliers) == pytest.approx(
+        np.sort_complex(np.linalg.eigvals(monodromy)), abs=1e-7)
+
+
 def test_incommensurate_frequencies_have_no_period():
     mech = oscillator(4, 0.5, sp.cos(md.t) + sp.cos(sp.sqrt(2) * md.t))
     with pytest.raises(md.PeriodicError, match="incommensurate"):

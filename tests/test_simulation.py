@@ -60,6 +60,11 @@ def test_dense_output_and_accelerations_of_the_hoist():
     assert np.allclose(res[md.acceleration(phi2)], eps, rtol=1e-9)
     times = np.linspace(0, 3, 7)
     assert np.allclose(res.at(times, phi2), [res.at(t, phi2) for t in times], rtol=1e-14)
+    # ... and the dense output is the motion: phi2 = 3 t + b t^2/2 + a t^3/6 with
+    # eps = a t + b above (worked example 6), between the solver's steps too.
+    slope, offset = 48 / den, (4200 * 0.24 - (400 * 9.81 * 0.2 + 2000) * 0.36) / den
+    exact = 3 * times + offset * times**2 / 2 + slope * times**3 / 6
+    assert np.allclose(res.at(times, phi2), exact, rtol=1e-9)
 
 
 def test_compiled_rhs_equals_exact_sympy_evaluation():

@@ -84,6 +84,10 @@ def test_a_dask_local_cluster_gives_identical_rows(brake, local_sweep):
         table = md.sweep(brake.mechanism, brake.scenes["braking"], brake.params,
                          {"P": FORCES}, executor=client.get_executor(), progress=False)
     assert table.rows == local_sweep[0].rows
+    # ... and those rows are right: t_stop = I omega_0 / (2 f P R) (shoe brake, by hand).
+    p = _by_name(brake)
+    np.testing.assert_allclose(
+        table["t_end"], p["I"] * 100.0 / (2 * p["f"] * np.array(FORCES) * p["R"]), rtol=1e-9)
 
 
 def test_an_interrupted_sweep_resumes_without_recomputing_finished_points(brake, tmp_path):

@@ -106,3 +106,56 @@ def test_random_machine_strategy_really_varies():
         seen.add(str(machine[0].reduced_inertia()))
     collect()
     assert len(seen) > 1
+
+
+def _finite_difference_jacobian(compiled, t, y, p):
+    """Central differences of the compiled right-hand side, column by column."""
+    y = np.asarray(y, dtype=float)
+    columns = []
+    for j in range(len(y)):
+        h = 1e-6 * max(1.0, abs(y[j]))
+        up, down = y.copy(), y.copy()
+        up[j] += h
+        down[j] -= h
+        columns.append((np.array(compiled.rhs(t, up, p)) - np.array(compiled.rhs(t, down, p)))
+                       / (2 * h))
+    return np.array(columns).T
+
+
+def _random_pair(c):
+    mech = md.Mechanism("random pair", [phi, psi])
+    mech.link("arm", m=c[0], J=c[1], x=sp.cos(phi), y=sp.sin(phi))
+    mech.link("slider", m=c[2], x=sp.cos(phi) + c[3] * psi, y=psi ** 2 / 2)
+    mech.spring("spring", c[4], stretch=psi - sp.sin(phi))
+    mech.damper("damper", c[5], stretch=psi * sp.cos(phi))
+    mech.load("moment", 1.0 + md.speed(phi) ** 2 / 4, along=phi)
+    mech.friction("brake", c[0] * (1 + psi ** 2), along=psi)
+    return mech
+
+
+@SETTINGS
+@given(one_dof_machine(), st.lists(st.floats(-2.0, 2.0), min_size=2, max_size=2))
+def test_one_dof_jacobian_equals_finite_differences_of_the_right_hand_side(machine, state):
+    # One coordinate: M depends on phi, so the term M_q a of da/dq is exercised.
+    mech, _ = machine
+    compiled = mech.compile(md.Scene("run", initial={phi: 0, md.speed(phi): 0}, t_end=1))
+    p = compiled.parameter_vector({})
+    expected = _finite_difference_jacobian(compiled, 0.0, state, p)
+    scale = max(1.0, np.abs(expected).max())
+    assert np.allclose(compiled.jac(0.0, np.array(state), p), expected, rtol=1e-6,
+                       atol=1e-6 * scale)
+
+
+@SETTINGS
+@given(st.lists(coefficient, min_size=6, max_size=6),
+       st.lists(st.floats(-2.0, 2.0), min_size=4, max_size=4), st.sampled_from([-1.0, 1.0]))
+def test_two_dof_jacobian_with_friction_equals_finite_differences(c, state, sign):
+    # Friction sliding either way: its magnitude depends on psi, its sign is a parameter.
+    mech = _random_pair(c)
+    compiled = mech.compile(md.Scene("run", initial={phi: 0, psi: 0, md.speed(phi): 0,
+                                                     md.speed(psi): 0}, t_end=1))
+    p = compiled.parameter_vector({}, [sign])
+    expected = _finite_difference_jacobian(compiled, 0.0, state, p)
+    scale = max(1.0, np.abs(expected).max())
+    assert np.allclose(compiled.jac(0.0, np.array(state), p), expected, rtol=1e-6,
+                       atol=1e-6 * scale)
