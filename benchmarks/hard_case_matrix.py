@@ -20,8 +20,9 @@ move to them); "again" is a second run in the same process (runs under 5 s).
 
 Outcome: ``ok`` (error within the case's bound), ``inaccurate`` (finished, error above
 the bound), ``budget`` (the step budget of one million steps exceeded), ``failed: ...``
-(the error's first words), ``timeout``; the vanishing-inertia case must fail with a
-named error (``named error``). Prints the tables and writes benchmarks/HARD_CASES.md.
+(the error's first words), ``timeout`` (killed at the limit; a run that finished
+between the limit and 30 s after it shows its figures, marked "over the limit"); the
+vanishing-inertia case must fail with a named error (``named error``). Prints the tables and writes benchmarks/HARD_CASES.md.
 """
 from __future__ import annotations
 
@@ -153,8 +154,10 @@ def run_matrix(case_names, method_labels, timeout, log=print):
     for case, label, method, backend, rtol in plan(case_names, method_labels):
         row, seconds = run_child([case, method, backend,
                                   "default" if rtol is None else repr(rtol)], timeout + 30)
-        if row is None or row.get("time", 0) > timeout:
-            row = {**(row or {}), "outcome": "timeout"}
+        if row is None:
+            row = {"outcome": "timeout"}
+        elif row.get("time", 0) > timeout:          # finished, but after the limit
+            row["outcome"] += " (over the limit)"
         row.update(key=case, label=label, rtol=rtol, process=seconds)
         rows.append(row)
         log(line(row))
@@ -257,6 +260,8 @@ def main(argv=None):
     parser.add_argument("--methods", help="comma-separated method labels")
     parser.add_argument("--no-write", action="store_true")
     parser.add_argument("--out", default=str(HERE / "HARD_CASES.md"))
+    parser.add_argument("--json", help="also save the rows to this file")
+    parser.add_argument("--from-json", help="write the report from saved rows, run nothing")
     parser.add_argument("--child", nargs=4, help=argparse.SUPPRESS)
     parser.add_argument("--prepare", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
@@ -265,6 +270,11 @@ def main(argv=None):
         child(case, method, backend, None if rtol == "default" else float(rtol),
               args.prepare)
         return None
+    if args.from_json:
+        saved = json.loads(Path(args.from_json).read_text())
+        write(saved["rows"], saved["timeout"], saved["note"], Path(args.out))
+        print(headline(saved["rows"]))
+        return saved["rows"]
     sys.path[:0] = [str(ROOT), str(HERE)]
     import hard_cases
     cases = args.cases.split(",") if args.cases else [f.__name__ for f in hard_cases.CASES]
@@ -272,6 +282,9 @@ def main(argv=None):
     note = header(args.timeout)
     print(note, flush=True)
     rows = run_matrix(cases, labels, args.timeout, log=lambda s: print(s, flush=True))
+    if args.json:
+        Path(args.json).write_text(json.dumps({"rows": rows, "timeout": args.timeout,
+                                               "note": note}))
     print()
     print(headline(rows))
     if not args.no_write:
