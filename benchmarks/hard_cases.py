@@ -17,7 +17,9 @@ from typing import Callable
 
 import numpy as np
 import sympy as sp
+from scipy.integrate import quad
 from scipy.linalg import expm
+from scipy.optimize import brentq
 
 import mechdyn as md
 
@@ -199,21 +201,139 @@ def _evaluate(expr, states, mech):
 
 
 def free_crank(rtol=None, revolutions=1000):
-    """A crank with a slider's mass (I_red = J + m r^2 sin^2 phi), free: energy must
-    stay constant over many revolutions."""
+    """A crank with a slider's mass (I_red = J + m r^2 sin^2 phi), free, for a whole
+    number of revolutions: energy must stay constant, and the crank must end where the
+    energy integral puts it (the period of a revolution, t = integral of dphi / omega(phi)
+    with omega = sqrt(2 E / I_red), by quadrature): 2 pi N at N periods."""
     phi = md.coordinate("phi")
+    J, m, r, omega0 = 0.01, 1.0, 0.1, 20.0
     mech = md.Mechanism("free crank", [phi])
-    mech.link("crank", J=0.01, angle=phi)
-    mech.link("slider", m=1.0, x=0.1 * sp.cos(phi))
-    omega0 = 20.0
-    t_end = revolutions * 2 * math.pi / omega0 * 1.2
-    scene = _scene("coast", [phi], t_end, rtol, speeds={phi: omega0})
+    mech.link("crank", J=J, angle=phi)
+    mech.link("slider", m=m, x=r * sp.cos(phi))
+    energy = J * omega0**2 / 2                             # sin(0) = 0: I_red(0) = J
+    period = quad(lambda a: math.sqrt((J + m * r**2 * math.sin(a) ** 2) / (2 * energy)),
+                  0, 2 * math.pi, epsabs=1e-14, epsrel=1e-14)[0]
+    scene = _scene("coast", [phi], revolutions * period, rtol, speeds={phi: omega0})
+    turned = 2 * math.pi * revolutions
 
     def error(res):
         T, V = res.energy()
-        return float(np.max(np.abs(T + V - (T[0] + V[0])) / (T[0] + V[0])))
-    return Case(f"free crank, {revolutions} rev", mech, scene, {}, error,
-                "|E - E0| / E0", 1e-6)
+        drift = float(np.max(np.abs(T + V - energy)) / energy)
+        return max(drift, abs(res.final(phi) - turned) / turned)
+    return Case(f"free crank, {revolutions:,} rev", mech, scene, {}, error,
+                "max(|E - E0| / E0, |phi_end / (2 pi N) - 1|)", 1e-6)
+
+
+def free_crank_long(rtol=None):
+    """The free crank over 10,000 revolutions (about 3,800 s, ~600,000 DOP853 steps)."""
+    return free_crank(rtol, revolutions=10_000)
+
+
+def near_resonance(rtol=None):
+    """A lightly damped oscillator (f0 = 1 Hz, damping ratio 0.005) forced at 0.98 f0
+    from rest over 200 periods: the transient beats against the steady response (24.5x
+    the static deflection) while it decays. Reference: the closed-form solution,
+    particular plus homogeneous part."""
+    x = md.coordinate("x")
+    m, w0, zeta, ratio, F = 1.0, 2 * math.pi, 0.005, 0.98, 1.0
+    k, c, w = m * w0**2, 2 * zeta * w0 * m, ratio * w0
+    mech = md.Mechanism("forced oscillator", [x], units={x: "m"})
+    mech.link("mass", m=m, x=x)
+    mech.spring("spring", k, stretch=x)
+    mech.damper("damper", c, stretch=x)
+    mech.load("force", F * sp.cos(w * md.t), along=x)
+    t_end = 200 * 2 * math.pi / w
+    scene = _scene("from rest", [x], t_end, rtol)
+    # x = a cos wt + b sin wt + exp(-zeta w0 t) (A cos wd t + B sin wd t), x(0) = x'(0) = 0
+    D = (k - m * w**2) ** 2 + (c * w) ** 2
+    a, b = F * (k - m * w**2) / D, F * c * w / D
+    wd = w0 * math.sqrt(1 - zeta**2)
+    A = -a
+    B = (zeta * w0 * A - b * w) / wd
+    times = np.linspace(0, t_end, 20_001)
+    exact = (a * np.cos(w * times) + b * np.sin(w * times)
+             + np.exp(-zeta * w0 * times) * (A * np.cos(wd * times) + B * np.sin(wd * times)))
+
+    def error(res):
+        return float(np.max(np.abs(res.at(times, "x") - exact)) / np.max(np.abs(exact)))
+    return Case("near resonance, 200 periods", mech, scene, {}, error,
+                "max |x - exact| / max |exact|", 1e-6)
+
+
+def stiff_stick_slip(rtol=None):
+    """A brake (80 N m) on a drum (0.5 kg m^2) holding a light load (1e-3 kg m^2) on a
+    stiff shaft (k = 1e6 N m/rad, damping ratio 0.05: modes at 2.2e4 and 3.2e4 rad/s)
+    against a load moment growing as 20 + 40 t N m: it slides from 6 rad/s to rest,
+    sticks, and slips backward once the shaft moment exceeds the brake's (t near 1.5 s).
+    Reference: the piecewise-linear motion by matrix exponentials, phase by phase, the
+    stop and the release located by root finding on the exact solution."""
+    J1, J2, k, Mb, w0 = 0.5, 1e-3, 1e6, 80.0, 6.0
+    c = 2 * 0.05 * math.sqrt(k * J1 * J2 / (J1 + J2))
+    phi1, phi2 = md.coordinates("phi_1 phi_2")
+    mech = md.Mechanism("braked elastic drive", [phi1, phi2])
+    mech.link("drum", J=J1, angle=phi1)
+    mech.link("load", J=J2, angle=phi2)
+    mech.spring("shaft", k, stretch=phi1 - phi2)
+    mech.damper("shaft damping", c, stretch=phi1 - phi2)
+    mech.load("load moment", -(20 + 40 * md.t), along=phi2)
+    mech.friction("brake", Mb, along=phi1)
+    scene = _scene("brake and release", [phi1, phi2], 2.0, rtol, speeds={phi1: w0, phi2: w0})
+    reference = _stick_slip_reference(J1, J2, k, c, Mb, w0, 2.0)
+    times = np.linspace(0, 2.0, 2001)
+    exact = reference(times)
+
+    def error(res):
+        states = res.at(times)
+        return float(max(np.max(np.abs(states["phidot_1"] - exact[2])),
+                         np.max(np.abs(states["phidot_2"] - exact[3]))))
+    return Case("stiff stick-slip", mech, scene, {}, error, "max speed error (rad/s)", 1e-6)
+
+
+def _stick_slip_reference(J1, J2, k, c, Mb, w0, t_end):
+    """times -> [phi1, phi2, u1, u2] of :func:`stiff_stick_slip`, exactly: the state
+    augmented with t and 1 makes each phase x' = A x (load moment linear in t)."""
+    def sliding(sign):           # brake -sign Mb on the drum
+        A = np.zeros((6, 6))
+        A[0, 2] = A[1, 3] = A[4, 5] = 1.0
+        A[2, :4] = np.array([-k, k, -c, c]) / J1
+        A[2, 5] = -sign * Mb / J1
+        A[3, :4] = np.array([k, -k, c, -c]) / J2
+        A[3, 4], A[3, 5] = -40 / J2, -20 / J2
+        return A
+
+    stuck = np.zeros((6, 6))      # drum held: phi1' = u1' = 0
+    stuck[1, 3] = stuck[4, 5] = 1.0
+    stuck[3, :4] = np.array([k, -k, 0, -c]) / J2
+    stuck[3, 4], stuck[3, 5] = -40 / J2, -20 / J2
+
+    def along(A, x0, t0):
+        return lambda t: expm(A * (t - t0)) @ x0
+
+    def first_root(g, t0, t1, dt):
+        grid = np.arange(t0 + dt, t1 + dt, dt)
+        previous = t0
+        for t in grid:
+            if g(t) > 0:
+                return brentq(g, previous, t, xtol=1e-15, rtol=1e-15)
+            previous = t
+        return None
+
+    x0 = np.array([0, 0, w0, w0, 0, 1.0])
+    slide = along(sliding(+1), x0, 0.0)
+    t_stick = first_root(lambda t: -slide(t)[2], 0.0, t_end, 1e-4)
+    x1 = slide(t_stick)
+    x1[2] = 0.0
+    hold = along(stuck, x1, t_stick)
+    holding = lambda t: abs(k * (hold(t)[0] - hold(t)[1]) - c * hold(t)[3]) - Mb  # noqa: E731
+    t_release = first_root(holding, t_stick, t_end, 1e-3)
+    back = along(sliding(-1), hold(t_release), t_release)
+    assert back(t_end)[2] < 0, "the reference expects the drum to keep slipping backward"
+
+    def solution(times):
+        return np.array([slide(t) if t < t_stick else hold(t) if t < t_release else back(t)
+                         for t in times])[:, :4].T
+    solution.events = (t_stick, t_release)
+    return solution
 
 
 def dead_centre_start(rtol=None):
@@ -282,4 +402,5 @@ def _scene(name, coords, t_end, rtol, speeds=None, positions=None, **extra):
 
 
 CASES = [stiff_damped_pair, stiff_undamped_pair, late_coupling, preload_spool,
-         dead_centre_start, brake_hold, free_crank, vanishing_inertia]
+         dead_centre_start, brake_hold, stiff_stick_slip, near_resonance, free_crank,
+         free_crank_long, vanishing_inertia]

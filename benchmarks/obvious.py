@@ -1,12 +1,14 @@
 """The obvious path: sympy.physics.mechanics.LagrangesMethod + lambdify + solve_ivp.
 
-What a user without mechdyn writes for the two benchmark machines (the exact slider-crank
-of models/slider_crank.py and the three-mass drive of benchmarks/elastic_drive.py, same
-parameters): frames, points and bodies, Lagrange's equations, ``lambdify`` of the full
-mass matrix and forcing, ``np.linalg.solve`` in the right-hand side, ``solve_ivp``.
-Also the hand-written Python right-hand sides the compiled ones are compared with.
+What a user without mechdyn writes for the benchmark machines (the exact slider-crank
+of models/slider_crank.py, the three-mass drive of benchmarks/elastic_drive.py and the
+shoe brake of models/shoe_brake.py, same parameters): frames, points and bodies,
+Lagrange's equations, ``lambdify`` of the full mass matrix and forcing,
+``np.linalg.solve`` in the right-hand side, ``solve_ivp`` (the brake: its friction
+moment ``-M sign(omega)`` and a terminal event at zero speed). Also the hand-written
+Python right-hand sides the compiled ones are compared with.
 
-    python benchmarks/obvious.py slider_crank|elastic_drive [--rtol 1e-6] [--method RK45]
+    python benchmarks/obvious.py slider_crank|elastic_drive|shoe_brake [--rtol 1e-6]
 
 runs one whole simulation (the whole-process benchmark times this command).
 """
@@ -25,7 +27,9 @@ SLIDER_CRANK = {"r": 0.1, "L": 0.4, "J_1": 0.01, "m_2": 0.5, "J_2": 0.5 * 0.4**2
                 "m_3": 1.0, "M_0": 5.0, "omega_0": 100.0}
 ELASTIC_DRIVE = {"J_1": 0.05, "J_2": 0.02, "J_3": 0.5, "k_1": 2000.0, "k_2": 5000.0,
                  "c_1": 1.0, "c_2": 1.0, "M_0": 40.0, "omega_0": 150.0, "M_L": 10.0}
-T_END = {"slider_crank": 1.0, "elastic_drive": 0.5}
+SHOE_BRAKE = {"I": 0.4, "f": 0.2, "P": 20.0, "R": 0.1, "omega_0": 100.0}
+T_END = {"slider_crank": 5.0, "elastic_drive": 0.5, "shoe_brake": 60.0}
+STATES = {"slider_crank": 2, "elastic_drive": 6, "shoe_brake": 2}
 
 
 def slider_crank_equations():
@@ -76,6 +80,23 @@ def elastic_drive_equations():
     return method, q, [J_1, J_2, J_3, k_1, k_2, c_1, c_2, M_0, omega_0, M_L]
 
 
+def shoe_brake_equations():
+    """LagrangesMethod of the braked disc: (method, q, parameter symbols)."""
+    q = dynamicsymbols("phi")
+    I, f, P, R = sp.symbols("I f P R")
+    N = ReferenceFrame("N")
+    disc = ReferenceFrame("A")
+    disc.orient_axis(N, N.z, q)
+    O = Point("O")
+    O.set_vel(N, 0)
+    body = RigidBody("disc", O, disc, 0, (inertia(disc, 0, 0, I), O))
+    friction = -f * 2 * P * R * sp.sign(q.diff())
+    method = LagrangesMethod(Lagrangian(N, body), [q], forcelist=[(disc, friction * N.z)],
+                             frame=N)
+    method.form_lagranges_equations()
+    return method, [q], [I, f, P, R]
+
+
 def rhs_of(method, q, parameters, values):
     """solve_ivp right-hand side: lambdify full mass matrix and forcing, solve."""
     states = list(q) + [qi.diff() for qi in q]
@@ -91,14 +112,27 @@ def rhs_of(method, q, parameters, values):
 def obvious_rhs(name):
     if name == "slider_crank":
         return rhs_of(*slider_crank_equations(), SLIDER_CRANK)
+    if name == "shoe_brake":
+        return rhs_of(*shoe_brake_equations(), SHOE_BRAKE)
     return rhs_of(*elastic_drive_equations(), ELASTIC_DRIVE)
 
 
+def _stopped(t, y):
+    return y[1]
+
+
+_stopped.terminal, _stopped.direction = True, -1
+
+
 def simulate(rhs, name, rtol, method="RK45"):
-    """solve_ivp from rest with dense output (atol = rtol / 100, as the scenes)."""
-    y0 = np.zeros(2 if name == "slider_crank" else 6)
+    """solve_ivp from the scene's start with dense output (atol = rtol / 100, as the
+    scenes); the brake stops at zero speed."""
+    y0 = np.zeros(STATES[name])
+    events = None
+    if name == "shoe_brake":
+        y0[1], events = SHOE_BRAKE["omega_0"], _stopped
     return solve_ivp(rhs, (0.0, T_END[name]), y0, method=method, rtol=rtol,
-                     atol=rtol / 100, dense_output=True)
+                     atol=rtol / 100, dense_output=True, events=events)
 
 
 # ------------------------------------------------------ hand-written right-hand sides
@@ -129,6 +163,13 @@ def elastic_drive_by_hand(t, y, J_1=0.05, J_2=0.02, J_3=0.5, k_1=2000.0, k_2=500
     s2 = k_2 * (p2 - p3) + c_2 * (u2 - u3)
     return [u1, u2, u3, (M_0 * (1 - u1 / omega_0) - s1) / J_1, (s1 - s2) / J_2,
             (s2 - M_L) / J_3]
+
+
+def shoe_brake_exact(times, I=0.4, f=0.2, P=20.0, R=0.1, omega_0=100.0):
+    """The braked disc in closed form: constant deceleration 2 f P R / I to rest."""
+    decel = 2 * f * P * R / I
+    t = np.minimum(times, omega_0 / decel)
+    return np.array([omega_0 * t - decel * t**2 / 2, omega_0 - decel * t])
 
 
 def main(argv=None):

@@ -1,19 +1,27 @@
 """Every measurement in one run; writes benchmarks/RESULTS.md.
 
-    python benchmarks/run_all.py [--repeats 3] [--skip-methods]
+    python benchmarks/run_all.py [--repeats 3] [--runs 10] [--skip-methods]
+                                 [--skip-hard-cases]
 
-1. Derivation: benchmarks/derive.py (mechdyn vs LagrangesMethod), its output verbatim.
-2. Simulation against the obvious path at matched accuracy, RHS per call, whole process
-   cold and warm: benchmarks/simulate.py on the slider-crank and the elastic drive.
-3. Per bundled scene (models/*.py), each in a fresh process with an empty cache:
-   derivation, compilation (code generation), RHS per call, simulation; then the whole
-   ``mechdyn simulate`` process cold (empty cache) and warm (cache hit).
-4. Method selection: per bundled scene, the fastest solve_ivp method meeting each target
+1. Derivation: benchmarks/derive.py (mechdyn vs LagrangesMethod), its output verbatim,
+   and its chain ratios against the previous RESULTS.md (no regression).
+2. Simulation at matched accuracy (benchmarks/simulate.py): mechdyn auto, scipy and
+   compiled, the obvious path and the compiled floor on the slider-crank, the three-mass
+   drive and the shoe brake.
+3. Whole process (benchmarks/process.py): ``mechdyn simulate`` cold and warm, paired
+   with ``python -c "import numpy, scipy.integrate"``.
+4. Dense output, plotting and memory per step (benchmarks/throughput.py).
+5. Sweeps (benchmarks/sweep.py): cost per point against a plain loop, 1 and 2 workers.
+6. Per bundled scene (models/*.py), each in a fresh process with an empty cache:
+   derivation, code generation, RHS per call, simulation; ``mechdyn simulate`` cold and
+   warm.
+7. Method selection: per bundled scene, the fastest solve_ivp method meeting each target
    error (``md.work_precision``), next to what ``method="auto"`` achieves.
-5. Sweeps: benchmarks/sweep.py (cost per point against a plain loop over simulate).
+8. The hard-case matrix (benchmarks/hard_case_matrix.py, which also writes
+   benchmarks/HARD_CASES.md): its headline table.
 
-All ratios in RESULTS.md come from this one run. Times are minima over repeats; the
-machine is shared, so absolute times carry its load (noted in the header).
+All ratios in RESULTS.md come from this one run. Times are minima (or medians, where
+said) over repeats; the machine's load at the start and the end is in the header.
 """
 from __future__ import annotations
 
@@ -21,6 +29,7 @@ import argparse
 import json
 import os
 import platform
+import re
 import subprocess
 import sys
 import tempfile
@@ -32,15 +41,15 @@ ROOT = HERE.parent
 sys.path[:0] = [str(ROOT), str(HERE)]
 
 import mechdyn as md  # noqa: E402
-import simulate as sim_bench  # noqa: E402
 
 METHODS = ["RK45", "DOP853", "LSODA", "Radau", "BDF"]
 RTOLS = [1e-3, 1e-5, 1e-7, 1e-9]
 TARGETS = [1e-3, 1e-5, 1e-7]
-WARM_TARGET, COLD_TARGET = 0.7, 1.5
+PROCESS_SCENES = [("models/shoe_brake.py", "braking"), ("models/slider_crank.py", "startup"),
+                  ("benchmarks/elastic_drive.py", "start")]
 
 
-# ------------------------------------------------------------ 3. one scene, in-process
+# ------------------------------------------------------------ 6. one scene, in-process
 def one_scene(model_path, scene_name, repeats):
     """Stage times of one scene in this (fresh) process, as a dict."""
     import timeit
@@ -63,7 +72,8 @@ def one_scene(model_path, scene_name, repeats):
         runs.append(time.perf_counter() - t0)
     return {"load": loaded - started, "derive": derived - loaded,
             "compile": generated - derived, "rhs": rhs, "simulate": min(runs),
-            "method": result.stats["method"], "steps": result.stats["steps"]}
+            "method": result.stats["method"], "steps": result.stats["steps"],
+            "backends": "+".join(result.stats["backends"])}
 
 
 SKIPPED = []     # (model file, why) of bundled models that do not load
@@ -80,9 +90,14 @@ def bundled_scenes():
 
 
 def stage_table(repeats):
-    lines = ["| model / scene | derive ms | compile ms | RHS us | simulate ms (method, "
-             "steps) | cold s | warm s |", "|---|---|---|---|---|---|---|"]
-    worst_cold = worst_warm = 0.0
+    import process
+    base = process.yardstick()
+    lines = [f"Yardstick `python -c \"import numpy, scipy.integrate\"`: {base:.2f} s "
+             "(median of 5).", "",
+             "| model / scene | derive ms | compile ms | RHS us | simulate ms (method, "
+             "steps, backend) | cold s | warm s | warm / yardstick |",
+             "|---|---|---|---|---|---|---|---|"]
+    worst = 0.0
     for path, name in bundled_scenes():
         with tempfile.TemporaryDirectory() as cache:
             env = dict(os.environ, MECHDYN_CACHE=cache)
@@ -91,23 +106,21 @@ def stage_table(repeats):
                                   capture_output=True, text=True)
         if done.returncode:
             lines.append(f"| {path.stem} / {name} | failed: "
-                         f"{done.stderr.strip().splitlines()[-1][:80]} | | | | | |")
+                         f"{done.stderr.strip().splitlines()[-1][:80]} | | | | | | |")
             continue
         s = json.loads(done.stdout.strip().splitlines()[-1])
-        cold, warm = sim_bench.whole_process(path, name, repeats)
-        worst_cold, worst_warm = max(worst_cold, cold), max(worst_warm, warm)
+        cold, warm = process.whole_process(path, name, repeats)
+        worst = max(worst, warm / base)
         lines.append(f"| {path.stem} / {name} | {s['derive'] * 1e3:.0f} | "
                      f"{s['compile'] * 1e3:.0f} | {s['rhs'] * 1e6:.1f} | "
-                     f"{s['simulate'] * 1e3:.1f} ({s['method']}, {s['steps']}) | "
-                     f"{cold:.2f} | {warm:.2f} |")
+                     f"{s['simulate'] * 1e3:.1f} ({s['method']}, {s['steps']}, "
+                     f"{s['backends']}) | {cold:.2f} | {warm:.2f} | {warm / base:.2f}x |")
         print(lines[-1], flush=True)
-    lines += ["", f"Worst whole process: cold {worst_cold:.2f} s (target < {COLD_TARGET} s: "
-              f"{_verdict(worst_cold < COLD_TARGET)}), warm {worst_warm:.2f} s (target < "
-              f"{WARM_TARGET} s: {_verdict(worst_warm < WARM_TARGET)})."]
+    lines += ["", f"Worst warm process: {worst:.2f}x the yardstick (unpaired medians)."]
     return "\n".join(lines)
 
 
-# ------------------------------------------------------------ 4. method selection
+# ------------------------------------------------------------ 7. method selection
 def method_table(repeats):
     lines = ["| model / scene | reference (agreement) | " + " | ".join(
         f"fastest at {t:.0e}" for t in TARGETS) + " | auto at the same targets |",
@@ -154,74 +167,173 @@ def _cell(row):
     return f"{used} {row.rtol:.0e} {row.time * 1e3:.1f} ms"
 
 
-def _verdict(ok):
-    return "met" if ok else "**missed**"
-
-
-# ------------------------------------------------------------------------ main
+# ------------------------------------------------------------ 1. derivation
 def run_derive():
     script = HERE / "derive.py"
-    if not script.exists():
-        return "benchmarks/derive.py not present: derivation not measured."
     out = subprocess.run([sys.executable, str(script)], cwd=ROOT, check=True,
                          capture_output=True, text=True).stdout
-    return "```\n" + out.rstrip() + "\n```"
+    return out.rstrip()
+
+
+def chain_ratios(text) -> dict:
+    """{N: LM/md ratio} of derive.py's chain rows in ``text``."""
+    return {int(n): float(r) for n, r in
+            re.findall(r"chain N=(\d+)\s+[\d.]+\s+[\d.]+\s+[\d.]+\s+([\d.]+)x", text)}
+
+
+def derive_section(previous_text):
+    out = run_derive()
+    now, before = chain_ratios(out), chain_ratios(previous_text)
+    lines = ["```", out, "```", ""]
+    if before:
+        lines.append("Against the previous RESULTS.md (LagrangesMethod / mechdyn, chain of "
+                     "N inertias): " + ", ".join(
+                         f"N = {n}: {before[n]:.1f}x then, {now.get(n, float('nan')):.1f}x now"
+                         for n in sorted(before)))
+    return "\n".join(lines), now
+
+
+# ------------------------------------------------------------ headline
+def headline(machines, proc, through, sweep_rows, chain):
+    import simulate as sim
+    import sweep as sweep_bench
+    lines = ["| figure | measured | target |", "|---|---|---|"]
+    for m in machines:
+        for target in sim.TARGETS:
+            ob, auto = sim.cheapest(m["obvious_runs"], target), sim.cheapest(m["runs"]["auto"],
+                                                                             target)
+            comp = sim.cheapest(m["runs"]["compiled"], target)
+            if ob and auto:
+                lines.append(f"| {m['name']}, error {target:.0e}: obvious path / mechdyn auto"
+                             f" | {ob['time'] / auto['time']:.1f}x | - |")
+            if comp and comp.get("floor"):
+                ratio = comp["time"] / comp["floor"]
+                lines.append(f"| {m['name']}, error {target:.0e}: mechdyn compiled / "
+                             f"compiled floor | {ratio:.1f}x | <= {sim.FLOOR_TARGET:g}x |")
+    for label, m in proc.items():
+        import statistics
+        lines.append(f"| `mechdyn simulate {label}` warm / yardstick (paired median) | "
+                     f"{statistics.median(m['warm']['ratios']):.2f}x | <= 1.3x |")
+        lines.append(f"| `mechdyn simulate {label}` cold / yardstick (paired median) | "
+                     f"{statistics.median(m['cold']['ratios']):.2f}x | - |")
+    long_run = through["dense"][0]
+    lines.append(f"| 1e5 dense points / the {long_run['steps']:,}-step run | "
+                 f"{long_run['at'] / long_run['run'] * 100:.1f} % | < 20 % |")
+    lines.append(f"| plotting the {long_run['steps']:,}-step run (first plot of a process) | "
+                 f"{through['plots'][0]:.2f} s | < 2 s |")
+    worst = max(r["sweep"] / r["peaks"] for r in sweep_rows)
+    lines.append(f"| sweep, 1 worker / plain loop (worst scene) | {worst:.2f}x | "
+                 f"<= {sweep_bench.TARGET}x |")
+    for n in (16, 32):
+        if n in chain:
+            lines.append(f"| derivation, chain N = {n}: LagrangesMethod / mechdyn | "
+                         f"{chain[n]:.1f}x | >= 10x |")
+    return "\n".join(lines)
 
 
 def header():
     import numpy
     import scipy
     import sympy
-    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
+    try:
+        import numba
+        numba_version = f", numba {numba.__version__}"
+    except ImportError:
+        numba_version = ", numba not installed"
     return (f"Python {platform.python_version()}, sympy {sympy.__version__}, scipy "
-            f"{scipy.__version__}, numpy {numpy.__version__}; {os.cpu_count()} CPU cores, "
-            f"load average {load:.1f} at the start (a shared machine: absolute times are "
-            f"inflated by others' work, ratios less so); {time.strftime('%Y-%m-%d %H:%M')}")
+            f"{scipy.__version__}, numpy {numpy.__version__}{numba_version}; "
+            f"{os.cpu_count()} CPU cores")
+
+
+def load():
+    return os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--runs", type=int, default=10, help="paired process runs")
     parser.add_argument("--skip-methods", action="store_true",
-                        help="leave out the method-selection sweep (the slowest part)")
+                        help="leave out the method-selection sweep")
+    parser.add_argument("--skip-hard-cases", action="store_true",
+                        help="leave out the hard-case matrix (the longest part)")
     parser.add_argument("--one", nargs=2, metavar=("MODEL", "SCENE"), help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.one:
         print(json.dumps(one_scene(Path(args.one[0]), args.one[1], args.repeats)))
         return
-    parts = ["# mechdyn benchmarks", "", "Written by `python benchmarks/run_all.py`. "
-             + header(), ""]
+    started, load_start = time.strftime("%Y-%m-%d %H:%M"), load()
+    results = HERE / "RESULTS.md"
+    previous = results.read_text() if results.exists() else ""
+    sections = []
+
     print("derivation ...", flush=True)
-    parts += ["## Derivation (benchmarks/derive.py)", "", run_derive(), ""]
-    print("simulation vs the obvious path ...", flush=True)
-    machines, imports = sim_bench.main(["--repeats", str(args.repeats)])
-    parts += ["## Simulation against the obvious path (benchmarks/simulate.py)", "",
-              sim_bench.__doc__.split("\n\n", 2)[2].strip(), ""]
-    parts += [sim_bench.report(m) for m in machines]
-    parts += ["| baseline process | s |", "|---|---|"]
-    parts += [f"| {label} | {seconds:.2f} |" for label, seconds in imports.items()]
-    parts += ["", "## Every bundled scene: stages and whole process", "",
-              "Derive, compile and RHS in a fresh process with an empty cache; simulate: "
-              "min of repeats at the scene's own method and tolerances; cold/warm: "
-              "`python -m mechdyn.cli simulate MODEL --scene NAME`.", "",
-              stage_table(args.repeats), ""]
-    if not args.skip_methods:
-        print("method selection ...", flush=True)
-        parts += ["## Method selection (calibrates choose_method)", "",
-                  f"Fastest method and rtol meeting each target error (worst of L2, final "
-                  f"state and event times; rtols {', '.join(f'{r:.0e}' for r in RTOLS)}; "
-                  "reference: closed form or DOP853 at 1e-13 checked by Radau at 1e-10; "
-                  "'-': no run meets it or the target is below the reference agreement). "
-                  "Last column: what method=\"auto\" picks and how much slower it is.", "",
-                  method_table(args.repeats), ""]
+    text, chain = derive_section(previous)
+    sections += ["## Derivation (benchmarks/derive.py)", "", text, ""]
+
+    print("simulation at matched accuracy ...", flush=True)
+    import simulate as sim
+    machines = sim.main(["--repeats", str(args.repeats)])
+    sections += ["## Simulation at matched accuracy (benchmarks/simulate.py)", "",
+                 sim.__doc__.split("\n\n", 2)[2].strip(), "", sim.verdicts(machines), ""]
+    sections += [sim.report(m) for m in machines]
+
+    print("whole process ...", flush=True)
+    import process
+    proc = {}
+    for model, scene in PROCESS_SCENES:
+        proc[f"{Path(model).name} --scene {scene}"] = process.measure(ROOT / model, scene,
+                                                                      args.runs)
+    sections += ["## Whole process (benchmarks/process.py)", "",
+                 process.__doc__.split("\n\n", 2)[2].strip(), "",
+                 process.report([(label, label.split()[0], label.split()[-1], m)
+                                 for label, m in proc.items()], args.runs), ""]
+
+    print("dense output, plotting, memory ...", flush=True)
+    import throughput
+    through = throughput.main(["--repeats", str(args.repeats)])
+    sections += ["## Dense output, plotting, memory (benchmarks/throughput.py)", "",
+                 through["text"], ""]
+
     print("sweeps ...", flush=True)
     import sweep as sweep_bench
-    parts += ["## Sweeps against a plain loop (benchmarks/sweep.py)", "",
-              sweep_bench.report(sweep_bench.main(["--repeats", str(args.repeats)]), 200), ""]
-    parts += [f"Skipped (model file did not load): {name}: {why}"
-              for name, why in dict(SKIPPED).items()]
-    (HERE / "RESULTS.md").write_text("\n".join(parts))
-    print(f"wrote {HERE / 'RESULTS.md'}")
+    sweep_rows = sweep_bench.main(["--repeats", str(args.repeats)])
+    sections += ["## Sweeps against a plain loop (benchmarks/sweep.py)", "",
+                 sweep_bench.report(sweep_rows, 200), ""]
+
+    print("every bundled scene ...", flush=True)
+    sections += ["## Every bundled scene: stages and whole process", "",
+                 "Derive, compile and RHS in a fresh process with an empty cache; simulate: "
+                 "min of repeats at the scene's own method and tolerances (backend auto); "
+                 "cold/warm: `python -m mechdyn.cli simulate MODEL --scene NAME`, medians.",
+                 "", stage_table(args.repeats), ""]
+    if not args.skip_methods:
+        print("method selection ...", flush=True)
+        sections += ["## Method selection (calibrates choose_method)", "",
+                     f"Fastest method and rtol meeting each target error (worst of L2, final "
+                     f"state and event times; rtols {', '.join(f'{r:.0e}' for r in RTOLS)}; "
+                     "reference: closed form or DOP853 at 1e-13 checked by Radau at 1e-10; "
+                     "'-': no run meets it or the target is below the reference agreement). "
+                     "Last column: what method=\"auto\" picks and how much slower it is.", "",
+                     method_table(args.repeats), ""]
+    if not args.skip_hard_cases:
+        print("hard-case matrix ...", flush=True)
+        import hard_case_matrix
+        rows = hard_case_matrix.main([])
+        sections += ["## Hard cases (benchmarks/hard_case_matrix.py)", "",
+                     "`method=\"auto\"` at the default tolerances; the whole matrix (each "
+                     "method at rtol 1e-10, 1e-8, 1e-6) is in benchmarks/HARD_CASES.md.", "",
+                     hard_case_matrix.headline(rows), ""]
+    sections += [f"Skipped (model file did not load): {name}: {why}"
+                 for name, why in dict(SKIPPED).items()]
+    parts = ["# mechdyn benchmarks", "",
+             f"Written by `python benchmarks/run_all.py` ({started} to "
+             f"{time.strftime('%H:%M')}). {header()}; load average {load_start:.1f} at the "
+             f"start, {load():.1f} at the end (a shared machine: absolute times carry its "
+             "load, ratios of runs made close together less so).", "",
+             "## Headline", "", headline(machines, proc, through, sweep_rows, chain), ""]
+    results.write_text("\n".join(parts + sections))
+    print(f"wrote {results}")
 
 
 if __name__ == "__main__":
