@@ -63,7 +63,7 @@ def child(case_name, method, backend, rtol, prepare=False):
     scene = replace(case.scene, method=method, backend=backend)
     compiled = case.mechanism.compile(scene)
     if prepare or backend == "compiled":
-        from mechdyn.numba_model import numba_functions
+        from mechdyn.compile.numba_model import numba_functions
         numba_functions(compiled)
         if prepare:
             print(json.dumps({"prepared": True}))

@@ -44,9 +44,9 @@ import os  # noqa: E402
 os.environ["MECHDYN_CACHE"] = "off"
 
 import mechdyn as md  # noqa: E402
-from mechdyn import compile as md_compile  # noqa: E402
-from mechdyn import simulate as md_simulate  # noqa: E402
-from mechdyn.assembly import closure_parts  # noqa: E402
+from mechdyn.compile import compiler as md_compile  # noqa: E402
+from mechdyn.simulate import simulation as md_simulate  # noqa: E402
+from mechdyn.simulate.assembly import closure_parts  # noqa: E402
 
 A, B, C, D = 0.1, 0.35, 0.3, 0.4
 J1, M2, M3 = 0.002, 1.5, 1.2

@@ -9,7 +9,7 @@ scipy.integrate"`` run in turn, A B A B ..., after one unrecorded warm-up each, 
 ratio is taken pair by pair, so a drift of the machine's speed during the measurement
 moves both sides of a ratio. Figures are medians (min and max show the spread).
 
-* cold: ``python -m mechdyn.cli simulate MODEL --scene NAME`` with an empty cache
+* cold: ``python -m mechdyn.cli.command simulate MODEL --scene NAME`` with an empty cache
   (``MECHDYN_CACHE`` a fresh directory for every run): model file, sympy derivation,
   code generation, simulation.
 * warm: the same command with the cache filled by an earlier run (issue 15: the warm
@@ -65,7 +65,7 @@ def spread(values, fmt):
 
 
 def cli_command(model, scene):
-    return [sys.executable, "-m", "mechdyn.cli", "simulate", str(model), "--scene", scene]
+    return [sys.executable, "-m", "mechdyn.cli.command", "simulate", str(model), "--scene", scene]
 
 
 def measure(model, scene, runs):

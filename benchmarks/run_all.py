@@ -305,7 +305,7 @@ def main(argv=None):
     sections += ["## Every bundled scene: stages and whole process", "",
                  "Derive, compile and RHS in a fresh process with an empty cache; simulate: "
                  "min of repeats at the scene's own method and tolerances (backend auto); "
-                 "cold/warm: `python -m mechdyn.cli simulate MODEL --scene NAME`, medians.",
+                 "cold/warm: `python -m mechdyn.cli.command simulate MODEL --scene NAME`, medians.",
                  "", stage_table(args.repeats), ""]
     if not args.skip_methods:
         print("method selection ...", flush=True)

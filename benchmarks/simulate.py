@@ -127,7 +127,7 @@ def mechdyn_runs(name, variant, rtols, repeats, ref_file, first_only=False):
     floor = None
     if variant == "compiled":
         from kernels import rk4_floor
-        from mechdyn.numba_model import numba_functions
+        from mechdyn.compile.numba_model import numba_functions
         functions = numba_functions(compiled)
         floor = rk4_floor(functions.rhs)
         p = np.asarray(compiled.parameter_vector(model.params), dtype=float)

@@ -62,7 +62,7 @@ def setup(model_file, scene_name, t_end, backend, method, **options):
                     **({} if t_end is None else {"t_end": t_end}))
     compiled = model.mechanism.compile(scene)
     if backend == "compiled":
-        from mechdyn.numba_model import numba_functions
+        from mechdyn.compile.numba_model import numba_functions
         numba_functions(compiled)
     return model, scene
 

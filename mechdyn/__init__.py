@@ -12,43 +12,43 @@ __version__ = "0.1.0"
 
 from importlib import import_module
 
-from .errors import (DeclarationError, DerivationError, MechdynError, MechdynWarning,
+from mechdyn.errors import (DeclarationError, DerivationError, MechdynError, MechdynWarning,
                      ParameterError, SceneError, SimulationError)
 
 # Public names loaded on first use: name -> module.
 _LAZY = {
-    **dict.fromkeys(["Damper", "Friction", "Gravity", "Link", "Load", "Spring"], "elements"),
-    **dict.fromkeys(["OneWayClutch", "Stop", "LossyGear"], "unilateral"),
-    "table": "tables", "Table": "tables",
-    "Mechanism": "mechanism", "Model": "model_file", "load_model": "model_file",
-    "Scene": "scene", "reaches": "scene", "stopped": "scene",
+    **dict.fromkeys(["Damper", "Friction", "Gravity", "Link", "Load", "Spring"], "declare.elements"),
+    **dict.fromkeys(["OneWayClutch", "Stop", "LossyGear"], "declare.unilateral"),
+    "table": "declare.tables", "Table": "declare.tables",
+    "Mechanism": "declare.mechanism", "Model": "declare.model_file", "load_model": "declare.model_file",
+    "Scene": "declare.scene", "reaches": "declare.scene", "stopped": "declare.scene",
     **dict.fromkeys(["acceleration", "coordinate", "coordinates", "plain", "speed", "t"],
                     "symbols"),
-    "classify": "analytic", "closed_form": "analytic", "driving_moment": "analytic",
-    "uniform_rotation": "analytic", "uniform_acceleration": "analytic",
-    "Classification": "analytic", "Solution": "analytic", "StopPoint": "analytic",
-    "Motion": "analytic", "DrivingMoment": "analytic", "AnalyticError": "analytic",
-    "natural_frequencies": "modal", "Modes": "modal",
-    "linearize": "linear", "StateSpace": "linear",
-    "Result": "result", "Event": "events",
-    "sweep": "sweeps", "Sweep": "sweeps",
+    "classify": "derive.analytic", "closed_form": "derive.analytic", "driving_moment": "derive.analytic",
+    "uniform_rotation": "derive.analytic", "uniform_acceleration": "derive.analytic",
+    "Classification": "derive.analytic", "Solution": "derive.analytic", "StopPoint": "derive.analytic",
+    "Motion": "derive.analytic", "DrivingMoment": "derive.analytic", "AnalyticError": "derive.analytic",
+    "natural_frequencies": "derive.modal", "Modes": "derive.modal",
+    "linearize": "derive.linear", "StateSpace": "derive.linear",
+    "Result": "simulate.result", "Event": "simulate.events",
+    "sweep": "analyse.sweeps", "Sweep": "analyse.sweeps",
     **dict.fromkeys(["periodic_steady_state", "floquet", "forcing_period", "Floquet",
                      "PeriodicSolution", "PeriodicError", "NoPeriodicSolutionError"],
-                    "periodic"),
+                    "analyse.periodic"),
     **dict.fromkeys(["steady_running", "flywheel", "SteadyRunning", "Flywheel"],
-                    "fluctuation"),
-    "work_precision": "precision", "WorkPrecision": "precision",
-    "characteristic": "characteristics", "Characteristic": "characteristics",
+                    "analyse.fluctuation"),
+    "work_precision": "analyse.precision", "WorkPrecision": "analyse.precision",
+    "characteristic": "analyse.characteristics", "Characteristic": "analyse.characteristics",
     "to_si": "units", "UnitError": "units",
-    "duty_cycle": "cycle", "DutyCycleError": "cycle", "CycleResult": "cycle_result",
-    "animate": "animation", "Film": "animation",
+    "duty_cycle": "analyse.cycle", "DutyCycleError": "analyse.cycle", "CycleResult": "analyse.cycle_result",
+    "animate": "report.animation", "Film": "report.animation",
     **dict.fromkeys(["Linkage", "LinkageError", "CrankSweep", "Singularity", "Grashof",
-                     "grashof"], "linkage"),
+                     "grashof"], "analyse.linkage"),
     **dict.fromkeys(["kinetostatics", "shaking", "Kinetostatics", "Reaction",
-                     "KinetostaticsError"], "joint_reactions"),
-    **dict.fromkeys(["balance", "Balance", "Counterweight"], "balancing"),
+                     "KinetostaticsError"], "analyse.joint_reactions"),
+    **dict.fromkeys(["balance", "Balance", "Counterweight"], "analyse.balancing"),
 }
-_LAZY_MODULES = {"reduction", "units", "motors"}
+_LAZY_MODULES = {"reduction": "derive.reduction", "units": "units", "motors": "declare.motors"}
 
 __all__ = [
     "motors", "Mechanism", "Link", "Load", "Spring", "Damper", "Gravity", "Friction",
@@ -65,7 +65,7 @@ def __getattr__(name):
     if name in _LAZY:
         value = getattr(import_module(f".{_LAZY[name]}", __name__), name)
     elif name in _LAZY_MODULES:
-        value = import_module(f".{name}", __name__)
+        value = import_module(f".{_LAZY_MODULES[name]}", __name__)
     else:
         raise AttributeError(f"module 'mechdyn' has no attribute {name!r}")
     globals()[name] = value

@@ -35,7 +35,7 @@ import stat
 import warnings
 from pathlib import Path
 
-from .errors import MechdynWarning
+from mechdyn.errors import MechdynWarning
 
 __all__ = ["cache_dir", "load", "store", "load_bytes", "store_bytes", "CacheWarning"]
 

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .errors import MechdynError
+from mechdyn.errors import MechdynError
 
 __all__ = ["KINDS", "Display", "column_units", "output_units", "kind_of"]
 
@@ -59,7 +59,7 @@ class Display:
         unit = self.unit(column, si)
         if unit == si or not si:
             return np.asarray(values, dtype=float), si
-        from .units import UnitError, convert
+        from mechdyn.units import UnitError, convert
         try:
             return convert(values, si, unit), unit
         except UnitError as error:
@@ -98,10 +98,10 @@ def _per(unit, time):
 def output_units(mechanism, scene) -> dict:
     """The SI unit of each of a scene's outputs, by label (see the module)."""
     import sympy as sp
-    from .dimensions import ENERGY, TIME, Misfit, MissingUnit, _plain, dimension_of, \
+    from mechdyn.declare.dimensions import ENERGY, TIME, Misfit, MissingUnit, _plain, dimension_of, \
         known_dimensions
-    from .elements import Damper, Friction, Load, Spring
-    from .unilateral import LossyGear, Stop
+    from mechdyn.declare.elements import Damper, Friction, Load, Spring
+    from mechdyn.declare.unilateral import LossyGear, Stop
     known = {sp.Symbol(s.name): d for s, d in known_dimensions(mechanism).items()}
 
     def dimension(expr):

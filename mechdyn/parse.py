@@ -24,7 +24,7 @@ import operator
 import re
 from fractions import Fraction
 
-from .errors import MechdynError
+from mechdyn.errors import MechdynError
 
 __all__ = ["number", "assignment", "named_value", "quantity", "unit_terms",
            "ValueTextError"]
@@ -64,7 +64,7 @@ def number(text: str) -> float:
 
 def assignment(text: str) -> tuple:
     """``"name=value"`` -> ``(name, value text)``; the value is read where it is used
-    (:func:`mechdyn.parameters.to_number`), so its errors name the parameter.
+    (:func:`mechdyn.declare.parameters.to_number`), so its errors name the parameter.
 
     >>> assignment("P = 2*pi")
     ('P', '2*pi')

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .errors import MechdynError
+from mechdyn.errors import MechdynError
 
 __all__ = ["plot_result", "plot_sweep", "pyplot", "dense_series", "finish"]
 
@@ -43,8 +43,8 @@ def dense_series(result, points=1001, sample=None):
 
 def plot_result(result, path=None, points=400, sample=None, units=None, phases=(),
                 title=None):
-    """Plot a :class:`~mechdyn.result.Result` (or a duty cycle's
-    :class:`~mechdyn.cycle_result.CycleResult`); save to ``path`` if given.
+    """Plot a :class:`~mechdyn.simulate.result.Result` (or a duty cycle's
+    :class:`~mechdyn.analyse.cycle_result.CycleResult`); save to ``path`` if given.
 
     Panels, top down: speeds, positions (a panel per unit and scale, so a small
     coordinate is not flattened by a large one), then the requested outputs a panel per
@@ -54,7 +54,7 @@ def plot_result(result, path=None, points=400, sample=None, units=None, phases=(
     (``(name, start, end)`` each) are shaded in turn, their boundaries drawn solid and
     their names written across the top of the strip.
     """
-    from .display import Display, column_units, kind_of
+    from mechdyn.display import Display, column_units, kind_of
     plt = pyplot()
     shown, si = Display(units), column_units(result)
     shown.check(si)
@@ -153,7 +153,7 @@ def _mark_events(strip, axes, events, t_start, t_end, rows=(0.3, 0.65)):
 
 
 def plot_sweep(sweep, y, path=None):
-    """Column ``y`` of a :class:`~mechdyn.sweeps.Sweep` against its first swept
+    """Column ``y`` of a :class:`~mechdyn.analyse.sweeps.Sweep` against its first swept
     parameter, a line per combination of the other swept parameters; failed points
     marked on the axis."""
     plt = pyplot()

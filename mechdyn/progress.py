@@ -3,7 +3,7 @@ time and the percentage, rewritten in place on stderr, cleared when the run ends
 
 The simulation driver calls its ``progress(t, t_end)`` about every quarter second; the
 line appears only once a run has taken ``delay`` seconds (2 by default), so short runs
-print nothing. A duty cycle (:func:`mechdyn.cycle.duty_cycle`) announces each phase
+print nothing. A duty cycle (:func:`mechdyn.analyse.cycle.duty_cycle`) announces each phase
 through :meth:`ProgressLine.phase`, and the line counts that phase's time.
 
 >>> import io

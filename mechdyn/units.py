@@ -28,8 +28,8 @@ from fractions import Fraction
 
 import numpy as np
 
-from .errors import MechdynError
-from .parse import ValueTextError, quantity, unit_terms
+from mechdyn.errors import MechdynError
+from mechdyn.parse import ValueTextError, quantity, unit_terms
 
 __all__ = ["UnitError", "Dimension", "DIMENSIONLESS", "to_si", "dimension", "convert",
            "si_factor", "registry"]
@@ -187,7 +187,7 @@ def _load_disk():
     if _DISK_LOADED:
         return
     _DISK_LOADED = True
-    from . import cache
+    from mechdyn import cache
     stored = cache.load("units.json") or {}          # authenticated, else None
     if isinstance(stored, dict):
         for key, facts in stored.items():
@@ -195,7 +195,7 @@ def _load_disk():
 
 
 def _save_disk():
-    from . import cache
+    from mechdyn import cache
     cache.store("units.json", _KNOWN)   # a read-only home only costs pint's import
 
 

@@ -1,4 +1,4 @@
-"""Closed forms, the five-case classification and inverse dynamics (mechdyn.analytic).
+"""Closed forms, the five-case classification and inverse dynamics (mechdyn.derive.analytic).
 
 Every reference value is worked out here by hand (or taken from the worked examples),
 never from the code under test.

@@ -5,7 +5,7 @@ from pathlib import Path
 
 import pytest
 
-from mechdyn import cli
+from mechdyn.cli import command as cli
 
 ROOT = Path(__file__).resolve().parents[1]
 BRAKE = str(ROOT / "models" / "shoe_brake.py")

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from mechdyn.codegen import compile_source, function_source
+from mechdyn.compile.codegen import compile_source, function_source
 
 x, v, k = sp.symbols("x v k")
 

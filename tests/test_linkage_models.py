@@ -25,7 +25,7 @@ def test_every_scene_runs_and_keeps_the_loops_closed(name):
     for scene in model.scenes.values():
         result = model.mechanism.simulate(scene, model.params)
         assert result.t_end == scene.t_end and np.all(np.isfinite(result.y))
-        from mechdyn.assembly import closure_parts
+        from mechdyn.simulate.assembly import closure_parts
         p = result.compiled.parameter_vector(model.params)
         g, _, _, _ = closure_parts(result.compiled, result.t_end, result.y[:, -1], p)
         assert np.max(np.abs(g)) < 1e-8

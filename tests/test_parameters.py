@@ -14,7 +14,7 @@ import pytest
 import sympy as sp
 
 import mechdyn as md
-from mechdyn.parameters import ParameterSet
+from mechdyn.declare.parameters import ParameterSet
 
 ROOT = Path(__file__).resolve().parents[1]
 x = md.coordinate("x")

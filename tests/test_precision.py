@@ -1,4 +1,4 @@
-"""Work-precision reports (mechdyn.precision) and the `mechdyn precision` command.
+"""Work-precision reports (mechdyn.analyse.precision) and the `mechdyn precision` command.
 
 Reference values are worked out by hand: the shoe brake stops at 50 s and 2500 rad
 (worked example 1); the slider-crank's reduced inertia comes from differentiating its

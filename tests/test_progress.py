@@ -3,13 +3,15 @@ stderr line, for runs past two seconds, when stderr is a terminal or with --prog
 cleared at the end. Clocks are replaced by counters, so nothing depends on this
 machine's speed."""
 import io
+import sys
 import re
 import types
 from pathlib import Path
 
 import pytest
 
-from mechdyn import cli, driver, progress
+from mechdyn import cli, progress
+from mechdyn.simulate import driver
 from mechdyn.progress import ProgressLine
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -76,7 +78,7 @@ def test_progress_goes_to_stderr_and_is_cleared(capsys, fake_clocks):
 def test_no_progress_unless_a_terminal_or_asked(capsys, monkeypatch, fake_clocks):
     _, err = _simulate(capsys)                       # stderr is not a terminal here
     assert err == ""
-    monkeypatch.setattr(cli.sys.stderr, "isatty", lambda: True, raising=False)
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True, raising=False)
     _, err = _simulate(capsys)
     assert "mechdyn: t = " in err
     _, err = _simulate(capsys, "--no-progress")

@@ -13,7 +13,7 @@ import pytest
 
 import mechdyn as md
 from mechdyn import cli
-from mechdyn.report import report
+from mechdyn.report.document import report
 
 ROOT = Path(__file__).resolve().parents[1]
 VOID = {"meta", "img", "br", "hr", "link", "input"}

@@ -14,7 +14,7 @@ import pytest
 
 import mechdyn as md
 from mechdyn.errors import ParameterError
-from mechdyn.sweeps import SweepFileError
+from mechdyn.analyse.sweeps import SweepFileError
 
 ROOT = Path(__file__).resolve().parents[1]
 FORCES = list(np.linspace(5.0, 200.0, 50))

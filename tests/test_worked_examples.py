@@ -11,7 +11,7 @@ import pytest
 import sympy as sp
 
 import mechdyn as md
-from mechdyn.cli import main
+from mechdyn.cli.command import main
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
 

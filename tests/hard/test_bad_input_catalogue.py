@@ -8,7 +8,7 @@ import pytest
 import sympy as sp
 
 import mechdyn as md
-from mechdyn.cli import main
+from mechdyn.cli.command import main
 
 phi = md.coordinate("phi")
 J, M, m = sp.symbols("J M m", positive=True)

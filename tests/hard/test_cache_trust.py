@@ -132,7 +132,7 @@ def test_damaged_entries_are_rebuilt_and_overwritten(private_cache):
 def test_an_authentic_but_malformed_entry_is_rebuilt_not_stuck(private_cache):
     """Entries signed with the right key but unusable (missing fields, code that does
     not compile, a field of the wrong type) are rebuilt and overwritten."""
-    from mechdyn.compile import declaration_key
+    from mechdyn.compile.compiler import declaration_key
     for broken in ({"meta": {}}, {"meta": {}, "source": "def rhs(:"}, {"source": 5}):
         tag = uuid.uuid4().hex
         name = entry(private_cache, declaration_key(*disc(tag)[:2])).name
@@ -213,7 +213,7 @@ def test_a_file_size_limit_degrades_to_no_disk_cache_in_a_real_process(private_c
     def limit():
         signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
         resource.setrlimit(resource.RLIMIT_FSIZE, (64, 64))
-    done = subprocess.run([sys.executable, "-m", "mechdyn.cli", "simulate",
+    done = subprocess.run([sys.executable, "-m", "mechdyn.cli.command", "simulate",
                            str(ROOT / "models" / "shoe_brake.py"), "--scene", "braking"],
                           capture_output=True, text=True, preexec_fn=limit,
                           env=dict(os.environ, PYTHONPATH=str(ROOT),
@@ -239,7 +239,7 @@ def test_a_read_only_directory_degrades_to_no_disk_cache(private_cache):
 def test_concurrent_processes_fill_one_cache_without_damage(private_cache):
     """Three processes compile the same scene into an empty cache at once: all succeed,
     the entry is authentic, no temporary file is left."""
-    command = [sys.executable, "-m", "mechdyn.cli", "simulate",
+    command = [sys.executable, "-m", "mechdyn.cli.command", "simulate",
                str(ROOT / "models" / "shoe_brake.py"), "--scene", "braking"]
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     runs = [subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE,

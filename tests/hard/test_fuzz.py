@@ -12,10 +12,10 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import mechdyn as md
-from mechdyn import sweeps
-from mechdyn.cli import main
-from mechdyn.model_file import ModelFileError
-from mechdyn.parameters import ParameterSet, to_number
+from mechdyn.analyse import sweeps
+from mechdyn.cli.command import main
+from mechdyn.declare.model_file import ModelFileError
+from mechdyn.declare.parameters import ParameterSet, to_number
 from mechdyn.parse import ValueTextError, number
 
 ROOT = Path(__file__).resolve().parents[2]

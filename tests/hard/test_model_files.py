@@ -11,7 +11,7 @@ import pytest
 
 import mechdyn as md
 from mechdyn.cli import main
-from mechdyn.model_file import ModelFileError
+from mechdyn.declare.model_file import ModelFileError
 
 ROOT = Path(__file__).resolve().parents[2]
 GOOD = (ROOT / "models" / "shoe_brake.py").read_text()
@@ -81,7 +81,7 @@ def test_a_real_ctrl_c_while_a_model_file_runs_still_interrupts(tmp_path):
     inside = tmp_path / "inside"
     (tmp_path / "slow.py").write_text(f"import time\nopen({str(inside)!r}, 'w').close()\n"
                                       "time.sleep(60)\n")
-    process = subprocess.Popen([sys.executable, "-m", "mechdyn.cli", "models", str(tmp_path)],
+    process = subprocess.Popen([sys.executable, "-m", "mechdyn.cli.command", "models", str(tmp_path)],
                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                                env=dict(os.environ, PYTHONPATH=str(ROOT)))
     deadline = time.monotonic() + 60

@@ -20,9 +20,9 @@ import numpy as np
 import pytest
 
 import mechdyn as md
-from mechdyn import sweeps
+from mechdyn.analyse import sweeps
 from mechdyn.cli import main
-from mechdyn.sweeps import SweepError, SweepFileError
+from mechdyn.analyse.sweeps import SweepError, SweepFileError
 
 ROOT = Path(__file__).resolve().parents[2]
 DRIVE = str(ROOT / "models" / "two_mass_drive.py")
@@ -37,7 +37,7 @@ def sweep_args(out, *extra):
 
 def start(out, *extra):
     """A sweep in another process (SIGINT at its default: a Ctrl-C reaches it)."""
-    return subprocess.Popen([sys.executable, "-m", "mechdyn.cli", *sweep_args(out, *extra)],
+    return subprocess.Popen([sys.executable, "-m", "mechdyn.cli.command", *sweep_args(out, *extra)],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             env=dict(os.environ, PYTHONPATH=str(ROOT)), cwd=ROOT)
 

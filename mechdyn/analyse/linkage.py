@@ -1,0 +1,387 @@
+"""Kinematic analysis of closed-loop linkages: positions by Newton's method, transmission
+functions by implicit differentiation, reduced inertia and moment along the crank angle.
+
+A :class:`Linkage` compiles a mechanism's loop constraints, mass matrix and generalized
+forces (numbers for the parameters given) and walks the independent coordinate: each
+position is solved by Newton's method with the analytic constraint Jacobian, warm-started
+from the previous one with a second-order predictor (``q + q' d phi + q'' d phi^2 / 2``),
+and the step is halved where Newton fails or the solution jumps, so one assembly branch
+is kept. Speeds and accelerations follow by implicit differentiation
+(:mod:`mechdyn.derive.transmission`): ``q' = S``, ``G_d q_d'' = -bias(q, q')``.
+
+>>> import sympy as sp, mechdyn as md
+>>> phi, th2, th3 = md.coordinates("phi theta_2 theta_3")
+>>> four = md.Mechanism("four-bar", [phi, th2, th3])
+>>> _ = four.link("crank", J=1, angle=phi)
+>>> _ = four.link("coupler", J=1, angle=th2)
+>>> _ = four.link("rocker", J=1, angle=th3)
+>>> _ = four.loop("ABCD", (1, phi), (3, th2), (-2.5, th3), (-3, 0))
+>>> linkage = md.Linkage(four, guess={th2: 1, th3: 2})
+>>> q = linkage.position(0.0)                 # open assembly at phi = 0
+>>> [round(float(v), 8) for v in q]
+[0.0, 0.97338991, 1.69612416]
+>>> linkage.grashof().kind
+'crank-rocker'
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from mechdyn.declare.elements import Constraint
+from mechdyn.errors import MechdynError
+from mechdyn.compile.linkage_code import LinkageFunctions
+from mechdyn.symbols import is_coordinate, t
+
+__all__ = ["Linkage", "LinkageError", "CrankSweep", "Singularity", "Grashof", "grashof"]
+
+_NEWTON_STEPS = 30
+_TOLERANCE = 1e-14          # |g| relative to the loop size
+_JUMP = 0.2                 # largest Newton correction of a continuation step (rad, m)
+_MAX_STEP = 0.25            # largest continuation step of the independent coordinate
+_MIN_STEP = 1e-13           # smallest step (relative): the loops close no further
+
+
+class LinkageError(MechdynError, ValueError):
+    """A linkage that cannot be analysed as asked: not assembled at a crank angle, no
+    loops, a four-bar question to another linkage. ``at``: the crank angle, if any."""
+
+    def __init__(self, message, at=None):
+        super().__init__(message)
+        self.at = at
+
+
+@dataclass(frozen=True)
+class CrankSweep:
+    """Kinematics along the independent coordinate (one-DOF linkages): ``phi`` (N),
+    ``q``, ``ratio`` (``dq/dphi``), ``second`` (``d2q/dphi2``), one row per coordinate
+    (``names``); ``inertia`` (``I_red``) and ``inertia_slope`` (``dI_red/dphi``)."""
+    phi: np.ndarray
+    q: np.ndarray
+    ratio: np.ndarray
+    second: np.ndarray
+    inertia: np.ndarray
+    inertia_slope: np.ndarray
+    names: tuple
+
+    def __getitem__(self, name):
+        """Positions of a coordinate by name or coordinate: ``sweep["theta_2"]``."""
+        return self.q[self._row(name)]
+
+    def _row(self, name):
+        key = name.func.__name__ if is_coordinate(name) else str(name)
+        if key not in self.names:
+            raise KeyError(f"{name!r}: not a coordinate ({', '.join(self.names)})")
+        return self.names.index(key)
+
+
+@dataclass(frozen=True)
+class Singularity:
+    """A special position of a linkage: ``kind`` ("toggle": the loop locks the
+    dependent coordinates, the crank cannot pass; "change point": the constraints
+    themselves lose rank), the ``loop`` that locks, the crank angle ``at``."""
+    kind: str
+    loop: str
+    at: float
+    coordinate: str
+
+    def __str__(self):
+        return (f"{self.kind} of loop {self.loop} at {self.coordinate} = {self.at:.9g} rad "
+                f"({np.degrees(self.at):.4f} deg)")
+
+
+class Linkage:
+    """Numeric kinematics of a mechanism with closed loops.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+        With loops (:meth:`~mechdyn.Mechanism.loop`) and at least one dependent coordinate.
+    params : dict, optional
+        Parameter values (all that the loops, masses and loads use).
+    guess : dict, optional
+        Values of the dependent coordinates near the wanted assembly (the branch);
+        default: the scene's initial values, else zero.
+    scene : Scene, optional
+        Selects the loads for the reduced moment; its initial values are the guess.
+    """
+
+    def __init__(self, mechanism, params=None, guess=None, scene=None):
+        self.mechanism = mechanism
+        self.eqs = eqs = mechanism.equations(scene)
+        if not eqs.constraints:
+            raise LinkageError(f"{mechanism.name!r} has no loops; declare them with "
+                               "mech.loop(...) or mech.constraint(...)")
+        if any(t in c.expression.free_symbols for c in eqs.constraints):
+            raise LinkageError(f"{mechanism.name!r}: the loops depend on time; the kinematic "
+                               "analysis needs loops of the coordinates alone")
+        self.names = tuple(str(q) for q in eqs.q)
+        self.n, self.m = eqs.dof, len(eqs.constraints)
+        self.independent = [eqs.q.index(q) for q in eqs.independent]
+        self.dependent = [i for i in range(self.n) if i not in self.independent]
+        self.functions = LinkageFunctions(eqs)
+        self.p = self.functions.parameter_vector(params or {})
+        self.params = dict(params or {})
+        self._last = self._start(guess, scene)
+
+    # ------------------------------------------------------------- positions
+    def _start(self, guess, scene):
+        q = np.zeros(self.n)
+        values = dict(scene.initial) if scene is not None else {}
+        values.update(guess or {})
+        for key, value in values.items():
+            name = key.func.__name__ if is_coordinate(key) else str(key)
+            if name in self.names:
+                q[self.names.index(name)] = float(value)
+        return q
+
+    def closure(self, q):
+        """``(g, G)``: the loop residuals and their Jacobian at the positions ``q``."""
+        v = self.functions.closure(0.0, np.concatenate([q, np.zeros(self.n)]), self.p)
+        return np.array(v[:self.m]), np.array(v[self.m:]).reshape(self.m, self.n)
+
+    def _newton(self, q, damped=False):
+        """Close the loops from ``q`` moving the dependent coordinates; None if it fails.
+        Near a solution (continuation) a step must halve the residual, else the toggle
+        is near; ``damped`` (from a user's guess) halves steps until the residual falls."""
+        q = np.array(q, dtype=float)
+        g, grads = self.closure(q)
+        tolerance = _TOLERANCE * max(float(np.abs(grads).max()), 1e-300) * \
+            (1 + float(np.abs(q).max()))
+        residual = float(np.abs(g).max())
+        for _ in range(4 * _NEWTON_STEPS if damped else _NEWTON_STEPS):
+            if residual <= tolerance:
+                return q
+            try:
+                step = np.linalg.lstsq(grads[:, self.dependent], g, rcond=None)[0] if damped \
+                    else np.linalg.solve(grads[:, self.dependent], g)
+            except np.linalg.LinAlgError:
+                return None
+            previous = residual
+            for _ in range(30 if damped else 1):
+                trial = q.copy()
+                trial[self.dependent] -= step
+                g, grads = self.closure(trial)
+                residual = float(np.abs(g).max())
+                if residual < previous or not damped:
+                    break
+                step = step / 2
+            q = trial
+            if not np.isfinite(residual) or (not damped and not residual < 0.5 * previous
+                                               and residual > 1e3 * tolerance):
+                return None          # not converging quadratically: near a toggle
+        return q if residual <= 1e3 * tolerance else None
+
+    def position(self, phi):
+        """All coordinates at the independent value(s) ``phi``, continued from the last
+        position solved (the branch is kept). Raises :class:`LinkageError` where the
+        loops cannot be closed."""
+        target = np.atleast_1d(np.asarray(phi, dtype=float))
+        q, reached = self._walk(self._last, target)
+        if q is None:
+            raise LinkageError(
+                f"{self.mechanism.name!r}: the loops cannot be closed at "
+                f"{self._independent_text(target)}; the linkage reaches only "
+                f"{self._independent_text(reached)} on this branch (a toggle position: "
+                "see singularities(), crank_range())", at=float(target[0]))
+        self._last = q
+        return q
+
+    def _walk(self, q, target):
+        """Continue from ``q`` to the independent values ``target``. Returns the
+        positions there (or None) and the last independent values reached."""
+        start = self._newton(q, damped=True)
+        if start is None:
+            return None, q[self.independent]
+        q = start
+        step = np.full(len(self.independent), _MAX_STEP)
+        while np.max(np.abs(target - q[self.independent])) > 0:
+            step = np.sign(target - q[self.independent]) * np.minimum(
+                np.abs(step), np.abs(target - q[self.independent]))
+            predicted = self._predict(q, step)
+            solved = self._newton(predicted) if predicted is not None else None
+            if solved is not None and np.max(np.abs(solved - predicted)) <= _JUMP:
+                q = solved
+                step = np.minimum(2 * np.abs(step), _MAX_STEP)
+                continue
+            step = step / 2
+            if np.max(np.abs(step)) < _MIN_STEP * (1 + np.max(np.abs(target))):
+                return None, q[self.independent]
+        return q, q[self.independent]
+
+    def _predict(self, q, step):
+        """Second-order predictor ``q + S step + q'' step^2 / 2`` (first order for
+        several independent coordinates)."""
+        try:
+            matrix = self.velocity_matrix(q)
+        except np.linalg.LinAlgError:
+            return None
+        first = matrix @ step
+        predicted = q + first
+        if len(self.independent) == 1:
+            predicted = predicted + self._second(q, matrix[:, 0]) * step[0] ** 2 / 2
+        predicted[self.independent] = q[self.independent] + step
+        return predicted
+
+    # -------------------------------------------------------------- derivatives
+    def velocity_matrix(self, q):
+        """``S`` (n x k) at the closed positions ``q``: ``u = S u_i``."""
+        _, grads = self.closure(q)
+        k = len(self.independent)
+        matrix = np.zeros((self.n, k))
+        matrix[self.independent, range(k)] = 1.0
+        matrix[self.dependent] = -np.linalg.solve(grads[:, self.dependent],
+                                                  grads[:, self.independent])
+        return matrix
+
+    def reduced_mass_matrix(self, q):
+        """``S' M S`` (k x k) at the closed positions ``q``: the mass matrix of the
+        independent coordinates (``I_red`` for one)."""
+        matrix = self.velocity_matrix(q)
+        y = np.concatenate([q, np.zeros(self.n)])
+        mass = np.array(self.functions.mass(0.0, y, self.p)).reshape(self.n, self.n)
+        return matrix.T @ mass @ matrix
+
+    def _second(self, q, ratio):
+        """``d2q/dphi2`` from ``G_d q_d'' = -bias(q, q')`` (independent: zero)."""
+        _, grads = self.closure(q)
+        bias = self.functions.bias(0.0, np.concatenate([q, ratio]), self.p)
+        out = np.zeros(self.n)
+        out[self.dependent] = -np.linalg.solve(grads[:, self.dependent], bias)
+        return out
+
+    def state(self, phi, omega, eps=0.0):
+        """Positions, speeds and accelerations of all coordinates for the crank at
+        ``phi`` turning at ``omega`` with acceleration ``eps`` (one-DOF)."""
+        q = self.position(phi)
+        ratio = self.velocity_matrix(q)[:, 0]
+        second = self._second(q, ratio)
+        return q, ratio * omega, ratio * eps + second * omega ** 2
+
+    def sweep(self, phi) -> CrankSweep:
+        """Positions, transmission functions and reduced inertia at each crank angle
+        of ``phi`` (walked in the given order, one branch kept)."""
+        self._one_dof("sweep")
+        phi = np.asarray(phi, dtype=float)
+        q = np.zeros((self.n, len(phi)))
+        ratio, second = np.zeros_like(q), np.zeros_like(q)
+        inertia, slope = np.zeros(len(phi)), np.zeros(len(phi))
+        for j, value in enumerate(phi):
+            q[:, j] = self.position(value)
+            ratio[:, j] = self.velocity_matrix(q[:, j])[:, 0]
+            second[:, j] = self._second(q[:, j], ratio[:, j])
+            inertia[j], slope[j] = self._inertia(q[:, j], ratio[:, j], second[:, j])
+        return CrankSweep(phi, q, ratio, second, inertia, slope, self.names)
+
+    def _inertia(self, q, ratio, second):
+        """``I_red = S'MS`` and ``I_red' = 2 (S' M q'' - S' f_in(q, S))``."""
+        y = np.concatenate([q, ratio])
+        mass = np.array(self.functions.mass(0.0, y, self.p)).reshape(self.n, self.n)
+        inertial = np.array(self.functions.inertial(0.0, y, self.p))
+        return ratio @ mass @ ratio, 2 * (ratio @ mass @ second - ratio @ inertial)
+
+    def reduced_inertia(self, phi):
+        """``I_red`` at the crank angle(s) ``phi`` (a number or an array)."""
+        values = self.sweep(np.atleast_1d(phi)).inertia
+        return float(values[0]) if np.ndim(phi) == 0 else values
+
+    def reduced_inertia_slope(self, phi):
+        """``dI_red/dphi`` at the crank angle(s) ``phi``."""
+        values = self.sweep(np.atleast_1d(phi)).inertia_slope
+        return float(values[0]) if np.ndim(phi) == 0 else values
+
+    def reduced_moment(self, phi, omega=0.0, t_value=0.0, exclude=()):
+        """``M_red = S' Q`` at the crank angle(s) ``phi`` and crank speed ``omega``,
+        without the loads named in ``exclude`` (friction elements are left out)."""
+        self._one_dof("reduced_moment")
+        out = []
+        for value in np.atleast_1d(phi):
+            q = self.position(value)
+            ratio = self.velocity_matrix(q)[:, 0]
+            columns = self.functions.forces(t_value, np.concatenate([q, ratio * omega]),
+                                            self.p)
+            out.append(sum(ratio @ np.array(column) for name, column in
+                           zip(self.functions.force_names, columns) if name not in exclude))
+        return float(out[0]) if np.ndim(phi) == 0 else np.array(out)
+
+    # --------------------------------------------------------------- helpers
+    def evaluate(self, expressions, sweep: CrankSweep, speeds=None):
+        """Expressions of the coordinates (and speeds, with ``speeds``: an array like
+        ``sweep.q``) at every position of a sweep, one row per expression."""
+        compiled = self.functions.expressions(list(expressions))
+        u = np.zeros_like(sweep.q) if speeds is None else speeds
+        return np.array([compiled(0.0, np.concatenate([sweep.q[:, j], u[:, j]]), self.p)
+                         for j in range(len(sweep.phi))]).T
+
+    def _one_dof(self, what):
+        if len(self.independent) != 1:
+            raise LinkageError(f"{what}: {self.mechanism.name!r} has "
+                               f"{len(self.independent)} independent coordinates; analyse "
+                               "it with position() and velocity_matrix()")
+
+    def _independent_text(self, values):
+        return ", ".join(f"{self.names[i]} = {v:.6g} ({np.degrees(v):.2f} deg)"
+                         for i, v in zip(self.independent, np.atleast_1d(values)))
+
+    def loop_of(self, row):
+        """The loop element a scalar constraint (row of G) belongs to."""
+        label = self.eqs.constraints[row].name
+        for name, element in self.mechanism.elements.items():
+            if isinstance(element, Constraint) and label in element.labels:
+                return name
+        return label
+
+    def plot(self, path=None, points=361, paths=None):
+        """Transmission functions, ``I_red`` and its slope, the transmission angle and
+        the paths of ``paths`` (name -> point ``(x, y)``: coupler curves) over a crank
+        revolution (:func:`mechdyn.analyse.linkage_plots.plot_linkage`)."""
+        from mechdyn.analyse.linkage_plots import plot_linkage
+        return plot_linkage(self, path, points, paths)
+
+    # Analyses in their own module, bound here: singularities, ranges, four-bars.
+    from mechdyn.analyse.linkage_limits import (coupler_curve, crank_range, describe,  # noqa: E402
+                                 extremes, grashof, singularities, transmission_angle)
+
+
+@dataclass(frozen=True)
+class Grashof:
+    """Grashof's classification of a four-bar: ``kind`` in words, ``grashof`` (s + l
+    < p + q: some link turns fully), ``change_point`` (s + l = p + q), the link lengths
+    ``shortest``, ``longest`` and which link is shortest, ``crank_turns`` (the input link
+    makes full turns)."""
+    kind: str
+    grashof: bool
+    change_point: bool
+    shortest: str
+    lengths: dict
+    crank_turns: bool
+
+    def __str__(self):
+        values = ", ".join(f"{k} {v:.6g}" for k, v in self.lengths.items())
+        return f"{self.kind} ({values}; shortest: {self.shortest})"
+
+
+def grashof(ground, crank, coupler, rocker, tolerance=1e-12) -> Grashof:
+    """Classify a four-bar by its link lengths (Grashof's criterion).
+
+    >>> str(grashof(3, 1, 3, 2.5))
+    'crank-rocker (ground 3, crank 1, coupler 3, rocker 2.5; shortest: crank)'
+    >>> grashof(2, 3, 3.5, 5).kind
+    'triple-rocker (non-Grashof)'
+    """
+    lengths = {"ground": abs(float(ground)), "crank": abs(float(crank)),
+               "coupler": abs(float(coupler)), "rocker": abs(float(rocker))}
+    if min(lengths.values()) <= 0:
+        raise LinkageError(f"four-bar link lengths must be positive, got {lengths}")
+    ordered = sorted(lengths.values())
+    excess = ordered[0] + ordered[3] - ordered[1] - ordered[2]
+    shortest = min(lengths, key=lengths.get)
+    change = abs(excess) <= tolerance * ordered[3]
+    if excess > 0 and not change:
+        return Grashof("triple-rocker (non-Grashof)", False, False, shortest, lengths, False)
+    kind = {"ground": "double-crank (drag link)", "crank": "crank-rocker",
+            "coupler": "double-rocker (Grashof)", "rocker": "rocker-crank"}[shortest]
+    if change:
+        kind = "change point: " + kind
+    return Grashof(kind, True, change, shortest, lengths, shortest in ("ground", "crank"))

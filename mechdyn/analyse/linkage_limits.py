@@ -1,0 +1,316 @@
+"""Special positions of a linkage: toggle positions and the crank's range, change points,
+the output's extreme (dead-centre) positions, Grashof's classification, the transmission
+angle and coupler curves. Methods of :class:`mechdyn.Linkage`.
+
+A *toggle* is where the loop locks the dependent coordinates (``G_d`` loses rank): the
+crank cannot pass, and beyond it the loop cannot be closed (a non-Grashof crank's end of
+range). A *change point* is where the constraints themselves lose rank (``G``), so the
+linkage may leave on another branch. The output's *extreme positions* are where its
+transmission function ``dq/dphi`` vanishes: a rocker's swing, a slider's stroke, the
+quick-return time ratio.
+
+>>> import sympy as sp, mechdyn as md
+>>> phi, th2, th3 = md.coordinates("phi theta_2 theta_3")
+>>> rocker = md.Mechanism("triple rocker", [phi, th2, th3])
+>>> for name, angle in [("input", phi), ("coupler", th2), ("output", th3)]:
+...     _ = rocker.link(name, J=1, angle=angle)
+>>> _ = rocker.loop("ABCD", (3, phi), (3.5, th2), (-5, th3), (-2, 0))
+>>> linkage = md.Linkage(rocker, guess={phi: np.pi, th2: 1.2, th3: 2.2})
+>>> low, high = linkage.crank_range()         # coupler and rocker folded: |AD| = 5 - 3.5
+>>> [round(float(np.degrees(x)), 6) for x in (low, high)]   # 13 - 12 cos(phi) = 1.5^2
+[26.38433, 333.61567]
+>>> str(linkage.singularities()[0])
+'toggle of loop ABCD at phi = 0.460493425 rad (26.3843 deg)'
+
+"""
+from __future__ import annotations
+
+import numpy as np
+import sympy as sp
+from scipy.optimize import brentq, minimize_scalar, root
+
+__all__ = ["singularities", "crank_range", "extremes", "grashof", "transmission_angle",
+           "coupler_curve", "describe"]
+
+_CHANGE_POINT = 1e-7         # sigma_min / sigma_max of G below this: a change point
+
+
+def _limit(self, q_good, phi_good, phi_bad):
+    """The last crank angle the loops close at, between a reachable and an unreachable
+    one (the toggle position by Newton's method from the last position reached, else
+    after bisection). Returns the angle and the positions there."""
+    low, high = sorted((phi_good, phi_bad))
+    angle, q = _fold(self, q_good, phi_good)
+    if low <= angle <= high and angle != phi_good:
+        return angle, q
+    while abs(phi_bad - phi_good) > 1e-7 * (1 + abs(phi_good)):
+        middle = (phi_good + phi_bad) / 2
+        q, _ = self._walk(q_good, np.array([middle]))
+        if q is None:
+            phi_bad = middle
+        else:
+            q_good, phi_good = q, middle
+    return _fold(self, q_good, phi_good)
+
+
+def _fold(self, q, phi):
+    """The toggle position itself, near ``q``: Newton's method (scipy's hybrid method)
+    on the loops and ``det G_d = 0`` over all coordinates, where the bisection ends
+    because Newton in the dependent coordinates alone converges only linearly there."""
+    _, grads = self.closure(q)
+    scale = abs(np.prod(np.linalg.norm(grads[:, self.dependent], axis=1)))
+
+    def equations(values):
+        g, grads = self.closure(values)
+        return np.append(g, np.linalg.det(grads[:, self.dependent]) / scale)
+    solution = root(equations, q, method="hybr", options={"xtol": 1e-15})
+    index = self.independent[0]
+    if np.max(np.abs(equations(solution.x))) < 1e-12 and \
+            np.max(np.abs(solution.x - q)) < 0.5:      # the same branch, near by
+        return float(solution.x[index]), solution.x
+    return phi, q
+
+
+def _scan(self, start, span, points):
+    """Walk from ``start`` over ``span``: (angles reached, positions, the toggle angle
+    and positions if the walk stopped at one, else None)."""
+    q = self.position(start)
+    grid = start + np.linspace(0.0, span, points)
+    reached, positions = [grid[0]], [q]
+    for value in grid[1:]:
+        next_q, _ = self._walk(q, np.array([value]))
+        if next_q is None:
+            angle, q_limit = _limit(self, q, reached[-1], value)
+            return np.array(reached), np.array(positions).T, (angle, q_limit)
+        q = next_q
+        reached.append(value)
+        positions.append(q)
+    return np.array(reached), np.array(positions).T, None
+
+
+def crank_range(self, start=None, points=721):
+    """``(low, high)``: the crank angles between which the loops close on this branch,
+    or None when the crank turns fully. ``start``: an angle inside the range (default:
+    the last position solved)."""
+    self._one_dof("crank_range")
+    start = self._last[self.independent[0]] if start is None else float(start)
+    _, forward_q, forward = _scan(self, start, 2 * np.pi, points)
+    if forward is None:
+        return None
+    _, _, backward = _scan(self, start, -2 * np.pi, points)
+    self.position(start)
+    return (backward[0] if backward else forward[0] - 2 * np.pi, forward[0])
+
+
+def singularities(self, start=None, points=721) -> list:
+    """Toggle positions (ends of the crank's range) and change points over one crank
+    revolution from ``start``, each a :class:`~mechdyn.analyse.linkage.Singularity` naming its
+    loop and crank angle, in the order met."""
+    from mechdyn.analyse.linkage import Singularity
+    self._one_dof("singularities")
+    name = self.names[self.independent[0]]
+    start = self._last[self.independent[0]] if start is None else float(start)
+    found = []
+    for span in (2 * np.pi, -2 * np.pi):
+        angles, positions, stop = _scan(self, start, span, points)
+        found += [Singularity("change point", self.loop_of(row), angle, name)
+                  for angle, row in _change_points(self, angles, positions)]
+        if stop is not None:
+            angle, q = stop
+            found.append(Singularity("toggle", self.loop_of(_locking_row(self, q)),
+                                     angle, name))
+        if stop is None:
+            break
+    self.position(start)
+    unique = []
+    for item in sorted(found, key=lambda s: s.at):
+        if not any(u.kind == item.kind and abs(u.at - item.at) < 1e-6 for u in unique):
+            unique.append(item)
+    return unique
+
+
+def _conditioning(self, q):
+    _, grads = self.closure(q)
+    values = np.linalg.svd(grads / np.linalg.norm(grads, axis=1, keepdims=True),
+                           compute_uv=False)
+    return values[-1] / values[0]
+
+
+def _change_points(self, angles, positions):
+    """Crank angles where ``G`` (all coordinates) nearly loses rank along a walk."""
+    ratio = np.array([_conditioning(self, positions[:, j]) for j in range(len(angles))])
+    out = []
+    for j in range(1, len(angles) - 1):
+        if ratio[j] <= ratio[j - 1] and ratio[j] <= ratio[j + 1] and ratio[j] < 1e-2:
+            def measure(value, q=positions[:, j - 1]):
+                reached, _ = self._walk(q, np.array([value]))
+                return 1.0 if reached is None else _conditioning(self, reached)
+            low, high = sorted((angles[j - 1], angles[j + 1]))
+            best = minimize_scalar(measure, bounds=(low, high), method="bounded",
+                                   options={"xatol": 1e-12})
+            if best.fun < _CHANGE_POINT:
+                q, _ = self._walk(positions[:, j - 1], np.array([best.x]))
+                out.append((float(best.x), _locking_row(self, q)))
+    return out
+
+
+def _locking_row(self, q):
+    """The constraint row most nearly dependent on the others at ``q``."""
+    _, grads = self.closure(q)
+    part = grads[:, self.dependent]
+    part = part / np.maximum(np.linalg.norm(part, axis=1, keepdims=True), 1e-300)
+    residuals = []
+    for k in range(len(part)):
+        others = np.delete(part, k, axis=0)
+        if not len(others):
+            return k
+        fit = np.linalg.lstsq(others.T, part[k], rcond=None)[0]
+        residuals.append(np.linalg.norm(part[k] - others.T @ fit))
+    return int(np.argmin(residuals))
+
+
+def extremes(self, coordinate, start=None, points=721) -> list:
+    """The extreme positions of a dependent coordinate (where ``dq/dphi = 0``): a
+    rocker's ends of swing, a slider's dead centres. A list of ``(crank angle, value)``
+    over one revolution from ``start`` (or over the crank's range)."""
+    sweep_start = self._last[self.independent[0]] if start is None else float(start)
+    limits = crank_range(self, sweep_start, points)
+    low, high = limits if limits else (sweep_start, sweep_start + 2 * np.pi)
+    self.position(low + 1e-9 * (high - low) if limits else low)
+    sweep = self.sweep(np.linspace(low, high, points)[1:-1] if limits
+                       else np.linspace(low, high, points))
+    row = sweep._row(coordinate)
+    ratio = sweep.ratio[row]
+    small = 1e-12 * max(float(np.max(np.abs(ratio))), 1e-300)
+    ratio = np.where(np.abs(ratio) <= small, 0.0, ratio)
+    out = []
+    for j in range(len(ratio) - 1):
+        if ratio[j] == 0 and (not out or out[-1][0] != sweep.phi[j]) and 0 < j:
+            out.append((float(sweep.phi[j]), float(sweep.q[row, j])))
+        elif ratio[j] * ratio[j + 1] < 0:
+            def slope(value, j=j):
+                self.position(sweep.phi[j])
+                return self.velocity_matrix(self.position(value))[row, 0]
+            angle = brentq(slope, sweep.phi[j], sweep.phi[j + 1], xtol=1e-14, rtol=1e-15)
+            self.position(sweep.phi[j])
+            out.append((float(angle), float(self.position(angle)[row])))
+    self.position(sweep_start)
+    return out
+
+
+def _four_bar(self):
+    """The roles of a four-bar loop: (lengths by role, term angles by role, signs,
+    index of each role in the loop's order)."""
+    from mechdyn.declare.elements import Constraint
+    from mechdyn.analyse.linkage import LinkageError
+    loops = [e for e in self.mechanism.elements.values() if isinstance(e, Constraint)]
+    if len(loops) != 1 or len(loops[0].terms) != 4:
+        raise LinkageError(f"{self.mechanism.name!r} is not a four-bar (one loop of four "
+                           "terms); Grashof's criterion and its transmission angle need one")
+    terms = [(self.eqs.to_plain(l), self.eqs.to_plain(a)) for l, a in loops[0].terms]
+    values = {s: sp.Float(v) for s, v in zip(self.functions.params, self.p)}
+    crank_symbol = self.eqs.q[self.independent[0]]
+    ground = [k for k, (_, a) in enumerate(terms) if not (a.free_symbols & set(self.eqs.q))]
+    crank = [k for k, (_, a) in enumerate(terms) if a.free_symbols & set(self.eqs.q)
+             == {crank_symbol}]
+    if len(ground) != 1 or len(crank) != 1:
+        raise LinkageError(f"{self.mechanism.name!r}: a four-bar loop needs one ground term "
+                           "(a constant angle) and one crank term (the independent angle)")
+    g, c = ground[0], crank[0]
+    roles = {"ground": g, "crank": c, "coupler": (g + 2) % 4, "rocker": (c + 2) % 4}
+    lengths = {}
+    for role, k in roles.items():
+        length = sp.sympify(terms[k][0]).xreplace(values)
+        if not length.is_number:
+            raise LinkageError(f"four-bar term {k + 1}: length {terms[k][0]} is not constant")
+        lengths[role] = float(length)
+    return lengths, {role: terms[k][1] for role, k in roles.items()}, roles
+
+
+def grashof(self):
+    """Grashof's classification of a four-bar loop (terms in order around the loop)."""
+    from mechdyn.analyse.linkage import grashof as classify
+    lengths, _, _ = _four_bar(self)
+    return classify(lengths["ground"], lengths["crank"], lengths["coupler"],
+                    lengths["rocker"])
+
+
+def transmission_angle(self, sweep, between=None):
+    """The transmission angle (rad, 0..pi; 90 deg ideal, 0 or 180 deg at a toggle) at
+    each position of a sweep: for a four-bar the interior angle between coupler and
+    rocker; with ``between=(angle_a, angle_b)`` the angle between those directions."""
+    if between is None:
+        lengths, angles, roles = _four_bar(self)
+        adjacent = (roles["rocker"] - roles["coupler"]) % 4 == 1
+        first, second = ("coupler", "rocker") if adjacent else ("rocker", "coupler")
+        sign = -np.sign(lengths[first] * lengths[second])
+        exprs = [angles[first] - angles[second]]
+    else:
+        sign, exprs = 1.0, [self.eqs.to_plain(sp.sympify(between[0] - between[1]))]
+    difference = self.evaluate([_as_function(self, e) for e in exprs], sweep)[0]
+    return np.arccos(np.clip(sign * np.cos(difference), -1.0, 1.0))
+
+
+def coupler_curve(self, point, sweep):
+    """The path ``(x, y)`` of a point (two expressions of the coordinates) over a
+    sweep: a coupler curve."""
+    x, y = self.evaluate([point[0], point[1]], sweep)
+    return x, y
+
+
+def _as_function(self, expr):
+    """A plain-symbol expression back in the coordinates (functions of t)."""
+    back = {sp.Symbol(name): q for name, q in zip(self.names, self.eqs.coordinates)}
+    return expr.xreplace(back)
+
+
+def describe(self, points=361) -> str:
+    """A few lines on the linkage over a crank revolution: Grashof's class (four-bars),
+    the crank's range and singular positions, each dependent coordinate's extremes,
+    the range of ``I_red`` and of the transmission angle."""
+    from mechdyn.analyse.linkage import LinkageError
+    from mechdyn.analyse.linkage_plots import revolution
+    crank = self.names[self.independent[0]]
+    lines = [f"{self.mechanism.name}: crank {crank}, dependent "
+             f"{', '.join(self.names[i] for i in self.dependent)}"]
+    deg = np.degrees
+    try:
+        lines.append(f"  Grashof: {grashof(self)}")
+    except LinkageError:
+        pass
+    start = self._last[self.independent[0]]
+    limits = crank_range(self, start, points)
+    found = singularities(self, start, points)
+    lines.append("  the crank turns fully" if limits is None else
+                 f"  crank range {deg(limits[0]):.4f} .. {deg(limits[1]):.4f} deg "
+                 "(beyond it the loops cannot be closed on this branch)")
+    lines += [f"  {item}" for item in found] or ["  no toggle position or change point"]
+    self.position(start)
+    for i in self.dependent:
+        unit = self.mechanism.units.get(self.names[i], "rad")
+        shown = (lambda v: f"{deg(v):.4f} deg") if unit == "rad" else \
+            (lambda v, unit=unit: f"{v:.6g} {unit}")
+        ends = extremes(self, self.names[i], start, points)
+        text = ", ".join(f"{shown(v)} at {crank} = {deg(a):.4f} deg" for a, v in ends)
+        lines.append(f"  {self.names[i]} extremes: {text or 'none (turns fully)'}")
+        if len(ends) == 2 and limits is None:
+            forward = (ends[1][0] - ends[0][0]) % (2 * np.pi)
+            slow, fast = max(forward, 2 * np.pi - forward), min(forward, 2 * np.pi - forward)
+            lines.append(f"    stroke {shown(abs(ends[1][1] - ends[0][1]))}, crank "
+                         f"angles {deg(forward):.4f} / {360 - deg(forward):.4f} deg, time "
+                         f"ratio {slow / fast:.4f}")
+    self.position(start)
+    sweep = revolution(self, points)
+    low, high = np.argmin(sweep.inertia), np.argmax(sweep.inertia)
+    lines.append(f"  I_red: {sweep.inertia[low]:.6g} .. {sweep.inertia[high]:.6g} kg m^2 "
+                 f"(at {crank} = {deg(sweep.phi[low]):.1f}, {deg(sweep.phi[high]):.1f} deg), "
+                 f"mean {np.mean(sweep.inertia[:-1] if limits is None else sweep.inertia):.6g}")
+    try:
+        mu = deg(transmission_angle(self, sweep))
+        worst = int(np.argmax(np.abs(mu - 90)))
+        lines.append(f"  transmission angle: {mu.min():.2f} .. {mu.max():.2f} deg, farthest "
+                     f"from 90 deg at {crank} = {deg(sweep.phi[worst]):.1f} deg")
+    except LinkageError:
+        pass
+    self.position(start)
+    return "\n".join(lines)

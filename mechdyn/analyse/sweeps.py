@@ -1,0 +1,381 @@
+"""Parameter sweeps: run one scene over a grid of parameter values on any Executor.
+
+The equations are derived and compiled once, in the calling process; the workers receive
+the mechanism, the scene and the generated code once each (local processes: when they
+start; other executors: with each point, unpickled once per worker), so they neither
+derive nor compile. Any :class:`concurrent.futures.Executor` runs the points: local
+processes by default, a Dask cluster through ``distributed.Client(...).get_executor()``.
+
+Limits and faults:
+
+- the grid may hold at most ``max_points`` points (default 1,000,000, about 1 KB of
+  memory per row); points go to the workers in batches of about ``BATCH_SECONDS`` of
+  work, at most ``IN_FLIGHT`` batches (four per local worker) submitted at a time;
+- each finished point is appended to the ``out`` CSV file at once (see
+  :mod:`mechdyn.analyse.sweep_file`: locked, and recorded so a rerun resumes only the same
+  sweep); a crash or Ctrl-C loses only the points in flight;
+- on Ctrl-C (or any error) the local worker processes are ended at once; they ignore
+  SIGINT themselves and end on their own within a second if the main process is killed.
+
+A point whose simulation fails is recorded with its error text (and not retried by a
+rerun: delete its row to retry); the other points are kept.
+
+>>> import mechdyn as md
+>>> from concurrent.futures import ThreadPoolExecutor
+>>> model = md.load_model("models/shoe_brake.py")
+>>> with ThreadPoolExecutor(2) as pool:
+...     table = md.sweep(model.mechanism, model.scenes["braking"], model.params,
+...                      {"P": [10, 20, 40]}, executor=pool, progress=False)
+>>> table["t_end"].round(9).tolist()        # t = I omega_0 / (2 f P R) = 1000 / P
+[100.0, 50.0, 25.0]
+"""
+from __future__ import annotations
+
+import hashlib
+import itertools
+import math
+import os
+import pickle
+import signal
+import threading
+import time
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from dataclasses import dataclass
+
+import numpy as np
+
+from mechdyn import __version__
+from mechdyn.errors import ParameterError
+from mechdyn.declare.parameters import ParameterSet, to_number
+from mechdyn.analyse.sweep_file import MAX_POINTS, TEXT_COLUMNS, SweepError, SweepFile, SweepFileError
+
+__all__ = ["sweep", "Sweep", "SweepError", "SweepFileError", "MAX_POINTS", "IN_FLIGHT"]
+
+
+IN_FLIGHT = 512              # tasks submitted and not yet collected, at most
+BATCH_SECONDS = 0.05         # work per task once the cost of a point is known
+_MAX_BATCH = 64              # points per task, at most
+_PARENT_CHECK = 0.5          # s between a worker's checks that its parent still lives
+
+
+def sweep(mechanism, scene, params, grid, executor=None, out=None, progress=True, *,
+          workers=None, max_points=MAX_POINTS, fresh=False, wait=0.0):
+    """Simulate ``scene`` at every point of a full-factorial parameter grid.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    scene : Scene
+    params : dict
+        Values of all parameters (symbols or names); the swept ones are overridden.
+    grid : dict
+        Parameter (symbol or name) -> list of values; all combinations are run.
+    executor : concurrent.futures.Executor, optional
+        Runs the points (default: ``workers`` local processes, ended afterwards). A
+        Dask cluster's ``client.get_executor()`` works unchanged.
+    out : str or Path, optional
+        CSV file the rows are appended to as they finish; an existing file of the same
+        sweep is resumed, one of another sweep refused (see :mod:`mechdyn.analyse.sweep_file`).
+    progress : bool
+        Show a tqdm progress bar (when tqdm is installed and the output is a terminal).
+    workers : int, optional
+        Local worker processes when no ``executor`` is given (default: all cores).
+    max_points : int
+        Refuse grids with more points (default :data:`MAX_POINTS`).
+    fresh : bool
+        Discard the rows of an existing ``out`` file instead of resuming it.
+    wait : float
+        Seconds to wait for another sweep that holds ``out`` (default: stop at once).
+
+    Returns
+    -------
+    Sweep
+        The rows in grid order: the parameters, ``t_end``, ``reason``, ``final:STATE``
+        per coordinate and speed, ``peak:OUTPUT`` per output, ``error`` (empty if ok).
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> model = md.load_model("models/shoe_brake.py")
+    >>> table = md.sweep(model.mechanism, model.scenes["braking"], model.params,
+    ...                  {"P": [20, 50]}, progress=False)
+    >>> table.columns
+    ['P', 't_end', 'reason', 'final:phi', 'final:phidot', 'error']
+    >>> table["final:phi"].round(6).tolist()    # omega_0^2 / (2 eps), eps = 2 f P R / I
+    [2500.0, 1000.0]
+    """
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int)
+                                or workers < 1):
+        raise SweepError(f"sweep: workers = {workers!r} must be a whole number >= 1")
+    from mechdyn.compile.compiler import compile_scene
+    compiled = compile_scene(mechanism, scene)
+    names, points = _grid_points(grid, compiled, max_points)
+    values = ParameterSet(params, mechanism=mechanism, scene=scene)
+    fixed_names = [n for n in compiled.param_names if n not in names]
+    fixed = dict(zip(fixed_names, values.vector(fixed_names)))
+    columns = _columns(names, compiled)
+    record = _record_of(mechanism, scene, compiled, names, fixed)
+    with SweepFile(out, columns, names, record, fresh=fresh, wait=wait) as table:
+        todo = [point for point in points if point not in table.rows]
+        if todo:
+            job = _Job(mechanism, scene, values.numbers, tuple(names), compiled.key,
+                       compiled.meta, compiled.source)
+            _run(job, todo, table, executor or workers,
+                 _bar(progress, len(points), len(table.rows)))
+        rows = [table.rows[point] for point in points]
+    default_y = "t_end" if scene.until else next(
+        (c for c in columns if c.startswith("peak:")), f"final:{compiled.state_names[-1]}")
+    return Sweep(names, columns, rows, default_y, out)
+
+
+class Sweep:
+    """The rows of a sweep in grid order, with column access and a plot.
+
+    ``sweep[column]`` is an array (floats; strings for ``reason`` and ``error``);
+    ``rows`` the dicts; ``failed`` the rows whose simulation failed; ``parameters`` the
+    swept names; ``path`` the CSV file (or None).
+    """
+
+    def __init__(self, parameters, columns, rows, default_y, path=None):
+        self.parameters, self.columns, self.rows = list(parameters), list(columns), rows
+        self.default_y, self.path = default_y, path
+
+    def __len__(self):
+        return len(self.rows)
+
+    def __getitem__(self, column):
+        if column not in self.columns:
+            raise KeyError(f"{column!r}: not a column ({', '.join(self.columns)})")
+        values = [row[column] for row in self.rows]
+        return np.array(values, dtype=object if column in TEXT_COLUMNS else float)
+
+    @property
+    def failed(self) -> list:
+        return [row for row in self.rows if row["error"]]
+
+    def plot(self, y=None, path=None):
+        """An output (default: ``t_end`` if the scene stops, else a peak) against the
+        first swept parameter, a line per value of the others; saved to ``path``."""
+        from mechdyn.plotting import plot_sweep
+        return plot_sweep(self, y or self.default_y, path)
+
+    def __repr__(self):
+        return (f"<Sweep over {', '.join(self.parameters)}: {len(self.rows)} points, "
+                f"{len(self.failed)} failed>")
+
+
+# ---------------------------------------------------------------------- the grid
+def _grid_points(grid, compiled, max_points):
+    """Swept names (checked against the scene's parameters) and the grid's points,
+    refused before they are built when there are more than ``max_points``."""
+    if not grid:
+        raise ParameterError("sweep: the grid is empty; give {parameter: [values]}")
+    names, axes = [], []
+    for key, values in grid.items():
+        name = str(key)
+        if name not in compiled.param_names:
+            raise ParameterError(f"sweep: {name!r} is not a parameter of this scene "
+                                 f"(parameters: {', '.join(compiled.param_names)})")
+        if name in names:
+            raise ParameterError(f"sweep: {name} is swept twice")
+        if isinstance(values, (str, bytes)) or not hasattr(values, "__iter__"):
+            raise ParameterError(f"sweep: the values of {name} must be a list of numbers")
+        values = list(dict.fromkeys(to_number(name, v) for v in values))
+        if not values or not all(math.isfinite(v) for v in values):
+            raise ParameterError(f"sweep: give {name} at least one value, all finite")
+        names.append(name)
+        axes.append(values)
+    size = math.prod(len(axis) for axis in axes)
+    if size > max_points:
+        raise SweepError(f"sweep: the grid has {size:,} points "
+                             f"({' x '.join(str(len(a)) for a in axes)}), more than "
+                             f"max_points = {max_points:,}; raise the limit (max_points=, "
+                             "--max-points) if you mean it")
+    return names, list(itertools.product(*axes))
+
+
+def _columns(names, compiled):
+    columns = names + ["t_end", "reason"]
+    columns += [f"final:{state}" for state in compiled.state_names]
+    columns += [f"peak:{label}" for label in compiled.output_labels]
+    clash = set(names) & set(columns[len(names):] + ["error"])
+    if clash:
+        raise ParameterError(f"sweep: parameter {sorted(clash)} clashes with a result column")
+    return columns + ["error"]
+
+
+def _record_of(mechanism, scene, compiled, names, fixed) -> dict:
+    """What the rows depend on, as the results file records it."""
+    return {"mechdyn": __version__, "mechanism": str(mechanism.name),
+            "declaration": compiled.key, "swept": list(names),
+            "scene": {"name": str(scene.name), "t_start": repr(scene.t_start),
+                      "t_end": repr(scene.t_end), "method": str(scene.method),
+                      "rtol": repr(scene.rtol), "atol": repr(scene.atol),
+                      "initial": repr(sorted((str(k), str(v))
+                                             for k, v in scene.initial.items()))},
+            "fixed": fixed}
+
+
+# ------------------------------------------------------------------ the workers
+@dataclass(frozen=True)
+class _Job:
+    """What every point needs: pickled once per sweep, unpickled once per worker."""
+    mechanism: object
+    scene: object
+    params: dict
+    names: tuple
+    key: str
+    meta: dict
+    source: str
+
+
+_jobs: dict = {}          # per worker process: digest -> _Job
+
+
+def _install(digest, blob):
+    """Unpickle a job once per worker and hand its generated code to compile_scene's
+    memory cache: no derivation, no compilation, no disk in the worker."""
+    job = _jobs.get(digest)
+    if job is None:
+        job = _jobs[digest] = pickle.loads(blob)
+        from mechdyn.compile import compiler as compile_module
+        compile_module._memory_cache.setdefault(
+            job.key, compile_module.CompiledScene(job.meta, job.source, job.key))
+    return job
+
+
+def _start_worker(digest, blob):
+    """A local worker: Ctrl-C is the parent's to handle; end with the parent."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    threading.Thread(target=_end_with_parent, args=(os.getppid(),), daemon=True).start()
+    _install(digest, blob)
+
+
+def _end_with_parent(parent):
+    """Exit as soon as the parent process is gone (killed: we were re-parented)."""
+    while os.getppid() == parent:
+        time.sleep(_PARENT_CHECK)
+    os._exit(1)
+
+
+def _run_points(digest, blob, points):
+    """Simulate a batch of grid points in a worker: their rows, and the time taken."""
+    started = time.perf_counter()
+    job = _install(digest, blob) if blob is not None else _jobs[digest]
+    return [_row(job, point) for point in points], time.perf_counter() - started
+
+
+def _row(job, point) -> dict:
+    """One grid point's row; a failure becomes the row's ``error``."""
+    row = dict(zip(job.names, point))
+    try:
+        result = job.mechanism.simulate(job.scene, {**job.params, **row})
+    except Exception as error:          # recorded in the row; the sweep goes on
+        row["error"] = f"{type(error).__name__}: {error}"
+        return row
+    row.update(t_end=result.t_end, reason=result.reason, error="")
+    for name, values in zip(result.state_names, result.y):
+        row[f"final:{name}"] = float(values[-1])
+    for label, value in _peaks(result, job.meta["output_labels"]).items():
+        row[f"peak:{label}"] = value
+    return row
+
+
+def _peaks(result, labels, points=1001) -> dict:
+    """Each output's value of largest magnitude, found on the step points and
+    ``points`` even times between them (dense output); nothing is evaluated when the
+    scene records no outputs."""
+    if not labels:
+        return {}
+    times = result.t
+    if len(times) > 1:
+        times = np.union1d(np.linspace(times[0], times[-1], points), times)
+    series = result.outputs_at(times)
+    return {label: float(v[np.argmax(np.abs(v))]) for label, v in series.items()}
+
+
+def _run(job, todo, table, executor, bar):
+    """Submit the points in batches, at most ``IN_FLIGHT`` batches at a time (four per
+    local worker), and record each row as its batch finishes; on any interruption keep
+    the finished rows, cancel the rest and end the local workers. ``executor``: an
+    Executor, or the number of local workers (None: one per core)."""
+    blob = pickle.dumps(job)
+    digest = hashlib.sha256(blob).hexdigest()
+    own = not hasattr(executor, "submit")
+    limit = IN_FLIGHT
+    if own:
+        count = min(len(todo), executor or os.cpu_count() or 1)
+        executor = ProcessPoolExecutor(max_workers=count, initializer=_start_worker,
+                                       initargs=(digest, blob))
+        limit = 4 * count
+    shipped = None if own else blob               # own workers got the job at start
+    points, pending, finished, batch = iter(todo), set(), False, _Batch()
+    order = {}                          # future -> submission number: rows in grid order
+    try:
+        while True:
+            while len(pending) < limit:
+                points_of_batch = list(itertools.islice(points, batch.size))
+                if not points_of_batch:
+                    break
+                future = executor.submit(_run_points, digest, shipped, points_of_batch)
+                order[future] = len(order)
+                pending.add(future)
+            if not pending:
+                break
+            done, pending = wait(pending, return_when=FIRST_COMPLETED)
+            _collect(sorted(done, key=order.pop), table, bar, batch)
+        finished = True
+    finally:
+        for future in pending:
+            future.cancel()
+        _collect(sorted((f for f in pending if f.done() and not f.cancelled()
+                         and f.exception() is None), key=order.get), table, bar, batch)
+        if bar is not None:
+            bar.close()
+        if own:
+            if not finished:
+                _end_workers(executor)
+            executor.shutdown(wait=True, cancel_futures=True)
+
+
+class _Batch:
+    """Points per submitted task: one at first, then as many as take about
+    ``BATCH_SECONDS``, so the cost of a task's round trip vanishes beside its work."""
+
+    def __init__(self):
+        self.size = 1
+
+    def learn(self, seconds, points):
+        per_point = max(seconds / max(points, 1), 1e-6)
+        self.size = max(1, min(_MAX_BATCH, int(BATCH_SECONDS / per_point)))
+
+
+def _collect(futures, table, bar, batch):
+    for future in futures:
+        rows, seconds = future.result()
+        batch.learn(seconds, len(rows))
+        for row in rows:
+            table.add(row)
+            if bar is not None:
+                bar.update()
+
+
+def _end_workers(executor):
+    """Terminate a ProcessPoolExecutor's workers now (their points are lost anyway)."""
+    terminate = getattr(executor, "terminate_workers", None)       # Python >= 3.14
+    if terminate is not None:
+        terminate()
+        return
+    for process in list((getattr(executor, "_processes", None) or {}).values()):
+        process.terminate()
+
+
+def _bar(show, total, initial):
+    """A tqdm progress bar, or None without tqdm (an optional dependency)."""
+    if not show:
+        return None
+    try:
+        from tqdm.auto import tqdm
+    except ImportError:
+        return None
+    return tqdm(total=total, initial=initial, unit="point", desc="sweep", disable=None)

@@ -1,0 +1,98 @@
+"""Scalar code from sympy expressions: common subexpressions shared, math-module calls,
+the state and the parameters read from vectors passed at run time.
+
+Every generated function has the signature ``f(t, y, p, out)``: it reads the state ``y``
+and the parameter vector ``p`` by index and writes its results into ``out``. The source
+is plain Python on the math module, so it runs as it is and compiles unchanged with
+numba. The generated text is mechdyn's own (never user text); it is compiled with
+``exec``.
+
+>>> import sympy as sp
+>>> x, k = sp.symbols("x k")
+>>> src = function_source("f", ["x"], ["k"], [k * sp.sin(x) ** 2, sp.sin(x)],
+...                       ["out[0] = {0}", "out[1] = {1}"])
+>>> out = [0.0, 0.0]
+>>> compile_source(src)["f"](0.0, [0.5], [2.0], out)
+>>> out
+[0.4596976941318603, 0.479425538604203]
+"""
+from __future__ import annotations
+
+import sympy as sp
+from sympy.printing.pycode import PythonCodePrinter
+
+from mechdyn.compile.generated import compile_source
+
+__all__ = ["function_source", "compile_source", "safe_symbols", "printed", "list_function"]
+
+
+class _Printer(PythonCodePrinter):
+    """Python code whose arithmetic means the same in CPython and numba: a fractional
+    power of a negative number is a domain error (``math.pow``), never a complex number;
+    the derivative of a step (``DiracDelta``) is zero wherever it is evaluated."""
+
+    def _print_Pow(self, expr, rational=False):
+        base, exponent = expr.as_base_exp()
+        if exponent.is_Integer:
+            return super()._print_Pow(expr, rational)
+        if exponent == sp.S.Half:
+            return f"sqrt({self._print(base)})"
+        if exponent == -sp.S.Half:
+            return f"(1.0/sqrt({self._print(base)}))"
+        return f"pow({self._print(base)}, {self._print(exponent)})"
+
+    def _print_DiracDelta(self, expr):
+        return "0.0"
+
+
+_PRINTER = _Printer({"fully_qualified_modules": False, "standard": "python3"})
+
+
+def printed(expr) -> str:
+    """The Python text of one expression."""
+    return _PRINTER.doprint(expr)
+
+
+def safe_symbols(prefix: str, count: int) -> list:
+    """``count`` real symbols named ``prefix0, prefix1, ...`` for generated code."""
+    return [sp.Symbol(f"{prefix}{i}", real=True) for i in range(count)]
+
+
+def function_source(name, states, parameters, expressions, body, doc="", lines=()) -> str:
+    """Source of ``def name(t, y, p, out)`` computing ``expressions`` with shared cse.
+
+    ``states`` and ``parameters`` are the local names bound to ``y[i]`` and ``p[j]``;
+    the expressions are bound to the locals ``_e0, _e1, ...``; ``lines`` are extra
+    statements placed after them and ``body`` the statements that write ``out``, both
+    format strings over the expressions' local names (``"out[0] = {0}"``).
+    """
+    temporaries, reduced = sp.cse(list(expressions), symbols=sp.numbered_symbols("_c"),
+                                  order="none")
+    text = [f"def {name}(t, y, p, out):"]
+    if doc:
+        text.append(f'    """{doc}"""')
+    text += [f"    {n} = y[{i}]" for i, n in enumerate(states)]
+    text += [f"    {n} = p[{i}]" for i, n in enumerate(parameters)]
+    text += [f"    {symbol} = {printed(value)}" for symbol, value in temporaries]
+    text += [f"    _e{i} = {printed(expr)}" for i, expr in enumerate(reduced)]
+    names = [f"_e{i}" for i in range(len(reduced))]
+    text += ["    " + line.format(*names) for line in lines]
+    text += ["    " + line.format(*names) for line in body]
+    if len(text) == 1 + bool(doc):
+        text.append("    pass")
+    return "\n".join(text) + "\n"
+
+
+def list_function(name, states, parameters, expressions):
+    """A compiled ``f(t, y, p) -> list`` of the expressions' values, for analysis code
+    that calls generated functions from Python (``y`` a list or an array)."""
+    source = function_source(name, states, parameters, expressions,
+                             [f"out[{i}] = {{{i}}}" for i in range(len(expressions))])
+    raw = compile_source(source)[name]
+    size = len(expressions)
+
+    def evaluate(t, y, p):
+        out = [0.0] * size
+        raw(t, y.tolist() if hasattr(y, "tolist") else list(y), p, out)
+        return out
+    return evaluate

@@ -1,0 +1,437 @@
+"""Generation: a scene's equations -> the source of its numeric functions.
+
+Every function has the signature ``f(t, y, p, out)`` (see :mod:`mechdyn.compile.codegen`). The
+state is ``y = [q_1..q_n, u_1..u_n]``; the parameter vector ``p`` holds the scene's
+parameters sorted by name, then one sign per friction element (+1 or -1: sliding that
+way and pushing against it; 0: no sliding force, the element is stuck and acts as a
+constraint). The functions:
+
+- ``rhs``: ``dy/dt = [u, M^-1 f]`` with sliding frictions pushing ``-sign * magnitude``;
+  ``M a = f`` solved by an unrolled Cholesky factorisation (NaN where ``M`` is not
+  positive definite, so a solver rejects the step);
+- ``jac``: its analytic Jacobian, ``out`` a ``2n x 2n`` array;
+- ``terms``: the pieces the friction modes need, laid out as ``meta["terms"]`` says
+  (name, offset, shape): the lower triangle of ``M``, ``f``, per friction element
+  (``meta["friction_kinds"]``: "friction", "one_way", "gear") its gradient, the velocity
+  part of its second derivative (``bias``), its magnitude, sliding rate, ``peak`` and
+  ``release``; per stop limit (``meta["contacts"]``) its gradient, bias, rate, gap and
+  restitution; per lossy gear (``meta["gears"]``: name, its friction element, its
+  constraint) its law ``(eta_forward, eta_backward, bearing_forward, bearing_backward)``;
+  the closed loops' gradients, biases and rates;
+- ``events``: the stop conditions, the friction elements' sliding rates and magnitudes,
+  the stop limits' gaps (kind "gap": watched falling through zero while the limit is
+  open; right after an impact the gap may be a rounding below zero, so the watch starts
+  from min(gap, 0) at the segment's start), and the switching functions (where a
+  ``Piecewise``, ``Min``, ``Max``, ``Abs``, ``sign`` or ``Heaviside`` of the forcing
+  changes branch), in the order of ``meta["events"]``; the branches are locked by flags
+  in ``p`` after the friction signs (:class:`Switches`); last, the domain conditions
+  (:func:`domain_conditions`: an argument that must not be negative for an element's
+  expression to have a real value);
+- ``outputs`` (:mod:`mechdyn.compile.output_code`), ``energy`` (``[T, V]``).
+
+A magnitude written with ``|rate|`` of its own sliding rate (Stribeck, tables) is
+compiled with ``sign * rate``: no switching function at zero sliding speed.
+"""
+from __future__ import annotations
+
+import sympy as sp
+
+from mechdyn.compile.codegen import function_source, safe_symbols
+from mechdyn.declare.elements import Constraint
+from mechdyn.compile.output_code import friction_signed, outputs as scene_outputs, slip_signed
+from mechdyn.symbols import t
+
+__all__ = ["generate", "UNROLLED_LIMIT"]
+
+UNROLLED_LIMIT = 8          # DOF up to which the Cholesky solve is unrolled in code
+
+
+def generate(eqs, scene, elements) -> tuple:
+    """Metadata and generated source for the equations ``eqs`` of ``scene``
+    (``elements``: the mechanism's elements by name, for outputs)."""
+    n, frictions = eqs.dof, eqs.frictions
+    state = set(eqs.q) | set(eqs.u) | {t}
+    outputs = scene_outputs(eqs, scene, elements)
+    stops = [] if scene is None else [
+        (repr(c), eqs.to_plain(c.expression - c.value)) for c in scene.until]
+    signs = safe_symbols("s", len(frictions))
+    switches = Switches(set(eqs.q) | set(eqs.u) | {t})
+    magnitudes = [switches.lock(slip_signed(fr, sign)) for fr, sign in zip(frictions, signs)]
+    contacts, gears = eqs.contacts, eqs.gears
+    locked = {name: [switches.lock(e) for e in exprs] for name, exprs in (
+        ("peak", [fr.peak for fr in frictions]), ("release", [fr.release for fr in frictions]),
+        ("gap", [c.gap for c in contacts]), ("restitution", [c.restitution for c in contacts]),
+        ("law", [e for g in gears for e in g.law]))}
+    mass_matrix = switches.lock(eqs.mass_matrix)
+    forcing = switches.lock(eqs.smooth_forcing)
+    for sign, fr, magnitude in zip(signs, frictions, magnitudes):
+        # a magnitude below zero pushes nothing: max(m, 0) is continuous, not a switch
+        forcing = forcing - sign * sp.Max(magnitude, 0) * fr.gradient
+    output_exprs = [switches.lock(friction_signed(e, eqs, signs)) for _, e, _ in outputs]
+    flags = switches.flags
+    periods = _forcing_periods([forcing] + magnitudes, set(eqs.q) | set(eqs.u))
+    everything = [mass_matrix, forcing, eqs.kinetic_energy, eqs.potential_energy]
+    everything += magnitudes + [e for _, e in stops] + output_exprs
+    everything += [e for exprs in locked.values() for e in exprs]
+    everything += [c.expression for c in eqs.constraints]       # a loop's ground length
+    known = set(eqs.q) | set(eqs.u) | {t} | set(signs) | set(flags)
+    params = sorted(set().union(*(sp.sympify(e).free_symbols for e in everything)) - known,
+                    key=lambda s: s.name)
+    q_names, u_names = safe_symbols("q", n), safe_symbols("u", n)
+    rename = dict(zip(eqs.q, q_names)) | dict(zip(eqs.u, u_names))
+    rename |= dict(zip(params, safe_symbols("p", len(params))))
+    rename[t] = sp.Symbol("t", real=True)
+
+    def r(expr):
+        return sp.sympify(expr).xreplace(rename)
+
+    coordinates = [str(q) for q in eqs.q]
+    state_names = coordinates + [str(u) for u in eqs.u]
+    states = [str(s) for s in q_names + u_names]
+    parameters = [f"p{i}" for i in range(len(params))] + [str(s) for s in signs + flags]
+    doc = (f"y = [{', '.join(state_names)}]; p = [" + ", ".join(
+        [s.name for s in params] + [f"sign of {fr.name}" for fr in frictions]
+        + [f"side of {f}" for f in switches.functions]) + "]")
+
+    def source(name, exprs, body, lines=()):
+        return function_source(name, states, parameters, exprs, body, doc, lines)
+
+    mass, force = r(mass_matrix), r(forcing)
+    constraints = eqs.constraints
+    layout, term_exprs = _terms_layout(n, mass, force, [
+        ("friction_gradient", (len(frictions), n), [r(g) for fr in frictions for g in fr.gradient]),
+        ("friction_bias", (len(frictions),), [r(fr.bias) for fr in frictions]),
+        ("friction_magnitude", (len(frictions),), [r(m) for m in magnitudes]),
+        ("friction_rate", (len(frictions),), [r(fr.rate) for fr in frictions]),
+        ("constraint_gradient", (len(constraints), n),
+         [r(g) for c in constraints for g in c.gradient]),
+        ("constraint_bias", (len(constraints),), [r(c.bias) for c in constraints]),
+        ("constraint_rate", (len(constraints),),
+         [r(sp.diff(c.expression, t)) for c in constraints]),
+        ("friction_peak", (len(frictions),), [r(e) for e in locked["peak"]]),
+        ("friction_release", (len(frictions),), [r(e) for e in locked["release"]]),
+        ("contact_gradient", (len(contacts), n), [r(g) for c in contacts for g in c.gradient]),
+        ("contact_bias", (len(contacts),), [r(c.bias) for c in contacts]),
+        ("contact_rate", (len(contacts),), [r(c.rate) for c in contacts]),
+        ("contact_gap", (len(contacts),), [r(e) for e in locked["gap"]]),
+        ("contact_restitution", (len(contacts),), [r(e) for e in locked["restitution"]]),
+        ("gear_law", (len(gears), 4), [r(e) for e in locked["law"]])])
+    domains = domain_conditions(eqs, elements, state)
+    event_exprs = [r(e) for _, e in stops] + [r(fr.rate) for fr in frictions] \
+        + [r(m) for m in magnitudes] + [r(e) for e in locked["gap"]] \
+        + [r(e) for e in switches.functions] + [r(e) for _, e in domains]
+    if constraints:      # closed loops: rhs solves M a = f + G' lambda, G a = -bias
+        from mechdyn.compile.loop_code import loop_sources
+        loops = loop_sources(eqs, mass, force, rename, source, states)
+        sources = [loops.pop("rhs"), loops.pop("jac"), *loops.values()]
+    else:
+        sources = [_rhs_source(source, mass, force, n, states, coordinates),
+                   _jac_source(source, mass, force, q_names, u_names)]
+    sources += [
+        source("terms", term_exprs, [f"out[{i}] = {{{i}}}" for i in range(len(term_exprs))]),
+        source("events", event_exprs, [f"out[{i}] = {{{i}}}" for i in range(len(event_exprs))]),
+        source("outputs", [r(e) for e in output_exprs],
+               [f"out[{i}] = {{{i}}}" for i in range(len(output_exprs))]),
+        source("energy", [r(eqs.kinetic_energy), r(eqs.potential_energy)],
+               ["out[0] = {0}", "out[1] = {1}"]),
+        source("periods", [r(e) for e in periods],
+               [f"out[{i}] = {{{i}}}" for i in range(len(periods))]),
+    ]
+    meta = {
+        "coordinates": coordinates,
+        "state_names": state_names,
+        "acceleration_names": [str(a) for a in eqs.a],
+        "param_names": [s.name for s in params],
+        "frictions": [fr.name for fr in frictions],
+        "frozen": [_frozen_index(fr, state) for fr in frictions],
+        "friction_kinds": [fr.kind for fr in frictions],
+        "contacts": [c.name for c in contacts],
+        "contact_elements": [c.element for c in contacts],
+        "contact_frozen": [_frozen_index(c, state) for c in contacts],
+        "gears": [[g.name, g.friction, g.constraint] for g in gears],
+        "stop_labels": [label for label, _ in stops],
+        "output_labels": [label for label, _, _ in outputs],
+        "output_items": [item for _, _, item in outputs],
+        "terms": layout,
+        "events": [["stop", label] for label, _ in stops]
+        + [["rate", fr.name] for fr in frictions]
+        + [["magnitude", fr.name] for fr in frictions]
+        + [["gap", c.name] for c in contacts]
+        + [["switch", str(e)] for e in switches.functions]
+        + [["domain", label] for label, _ in domains],
+        "periods": len(periods),
+        "autonomous": not any(t in sp.sympify(e).free_symbols
+                              for e in [mass_matrix, forcing] + magnitudes),
+        "eliminated": {c.func.__name__: str(e) for c, e in eqs.eliminated.items()},
+        "elements": list(eqs.elements), "excluded": list(eqs.excluded),
+        "rigid": list(eqs.rigid),
+        "time_functions": [c.func.__name__ for c in eqs.coordinates],
+    }
+    if constraints:
+        meta["constraints"] = [c.name for c in constraints]
+        meta["loops"] = [next(name for name, e in elements.items() if isinstance(e, Constraint)
+                              and c.name in e.labels) for c in constraints]
+        meta["independent"] = [eqs.q.index(q) for q in eqs.independent]
+        meta["multiplier_outputs"] = {label: meta["constraints"].index(label)
+                                      for label, _, _ in outputs
+                                      if label in meta["constraints"]}
+    return meta, "\n".join(sources)
+
+
+# ------------------------------------------------------------------ switching points
+class Switches:
+    """The switching functions of a set of expressions and their locked forms.
+
+    Each ``Piecewise`` condition, ``Min``/``Max``, ``Abs``, ``sign`` and ``Heaviside`` of
+    the state or time is rewritten to take its branch from a *flag* (a run-time
+    parameter, +1 or -1: the side of the switching function at the start of the
+    segment); a flag of 0 unlocks it (the branch is decided by the state itself). Within
+    a segment the equations are then smooth, the solver never steps into a jump, and the
+    crossing of the switching function is an event after which the next segment takes
+    the other branch (Modelica's discontinuity locking). Functions of the parameters
+    alone are left as they are.
+
+    ``functions``: the switching functions; ``flags``: their flag symbols;
+    ``lock(expr)``: the expression with its switches locked.
+    """
+
+    def __init__(self, variables):
+        self.variables = variables
+        self.functions, self.flags = [], []
+
+    def lock(self, expr):
+        expr = sp.sympify(expr)
+        if isinstance(expr, sp.MatrixBase):
+            return expr.applyfunc(self.lock)
+        return expr.replace(lambda e: isinstance(e, (sp.Min, sp.Max, sp.Abs, sp.sign,
+                                                     sp.Heaviside, sp.Piecewise)),
+                            self._locked)
+
+    def _locked(self, e):
+        if isinstance(e, sp.Piecewise):
+            return sp.Piecewise(*[(value, self._condition(c)) for value, c in e.args],
+                                evaluate=False)
+        if isinstance(e, (sp.Min, sp.Max)):
+            *rest, last = e.args
+            chosen = last
+            pick = sp.Gt if isinstance(e, sp.Max) else sp.Lt
+            for arg in reversed(rest):
+                chosen = sp.Piecewise((arg, self._condition(pick(arg, chosen))), (chosen, True))
+            return chosen
+        x = e.args[0]
+        if isinstance(e, sp.Abs):
+            return sp.Piecewise((x, self._condition(sp.Ge(x, 0))), (-x, True))
+        if isinstance(e, sp.sign):
+            return sp.Piecewise((1, self._condition(sp.Gt(x, 0))),
+                                (-1, self._condition(sp.Lt(x, 0))), (0, True))
+        return sp.Piecewise((1, self._condition(sp.Gt(x, 0))), (0, True))   # Heaviside
+
+    def _condition(self, condition):
+        if isinstance(condition, (sp.And, sp.Or, sp.Not)):
+            return condition.func(*[self._condition(a) for a in condition.args])
+        if not isinstance(condition, sp.core.relational.Relational) or \
+                isinstance(condition, (sp.Eq, sp.Ne)):
+            return condition
+        g = sp.expand(condition.lhs - condition.rhs)
+        if not (g.free_symbols & self.variables):
+            return condition
+        flag, orientation = self._flag(g)
+        side = flag * orientation
+        positive = isinstance(condition, (sp.Gt, sp.Ge))
+        locked = sp.Gt(side, 0) if positive else sp.Lt(side, 0)
+        return sp.Or(sp.And(sp.Eq(flag, 0), condition), sp.And(sp.Ne(flag, 0), locked))
+
+    def _flag(self, g):
+        """The flag of the (expanded) switching function ``g`` or of ``-g``, found by
+        their canonical forms (one lookup each, whatever the number of switches)."""
+        known = self.__dict__.setdefault("_known", {})
+        for key, orientation in ((g, 1), (sp.expand(-g), -1)):
+            if key in known:
+                return self.flags[known[key]], orientation
+        known[g] = len(self.functions)
+        self.functions.append(g)
+        self.flags.append(sp.Symbol(f"w{len(self.flags)}", real=True))
+        return self.flags[-1], 1
+
+
+def domain_conditions(eqs, elements, variables) -> list:
+    """``(label, g)`` for every argument ``g`` of the scene's element expressions that
+    must not become negative for the expression to have a real value (a square root
+    or fractional power, a logarithm, an arcsine or arccosine: ``1 - x^2``), where it
+    depends on the state or time. A run stops where one does, naming the element."""
+    found = []
+    for name, element in elements.items():
+        if name not in eqs.elements and type(element).__name__ != "Link":
+            continue
+        kind = type(element).__name__.lower()
+        for attribute, expr in element.expressions().items():
+            plain = eqs.to_plain(sp.sympify(expr))
+            for g in _domain_arguments(plain):
+                if g.free_symbols & variables and not g.is_nonnegative:
+                    found.append((f"{kind} {name!r}: {attribute} = {_written(expr)}", g))
+    return found
+
+
+def _written(expr) -> str:
+    """An expression as a user reads it: coordinates and speeds as plain symbols."""
+    from mechdyn.declare.scene import _readable
+    return _readable(sp.sympify(expr))
+
+
+def _domain_arguments(expr) -> list:
+    out = []
+    for node in sp.preorder_traversal(expr):
+        if isinstance(node, sp.Pow) and not node.exp.is_integer:
+            out.append(node.base)
+        elif isinstance(node, sp.log):
+            out.append(node.args[0])
+        elif isinstance(node, (sp.asin, sp.acos)):
+            out.append(1 - node.args[0] ** 2)
+    return out
+
+
+def _forcing_periods(expressions, states) -> list:
+    """Periods ``2 pi / |omega|`` of the sines and cosines of ``omega t + c`` in the
+    forcing (``omega`` free of the state and of t): a step must not skip over them while
+    nothing else changes."""
+    periods = []
+    for expr in expressions:
+        for entry in (sp.Matrix(expr) if isinstance(expr, sp.MatrixBase) else [expr]):
+            for node in sp.preorder_traversal(sp.sympify(entry)):
+                if isinstance(node, (sp.sin, sp.cos)) and node.args[0].has(t):
+                    omega = sp.diff(node.args[0], t)
+                    if omega != 0 and not (omega.free_symbols & ({t} | states)):
+                        period = 2 * sp.pi / sp.Abs(omega)
+                        if period not in periods:
+                            periods.append(period)
+    return periods
+
+
+
+# ------------------------------------------------------------------------- helpers
+def _terms_layout(n, mass, forcing, groups):
+    """The ``terms`` vector: lower triangle of ``M``, ``f``, then ``groups`` of
+    ``(name, shape, expressions)``; returns the layout and the expressions."""
+    layout, exprs = [], []
+
+    def add(name, shape, entries):
+        layout.append([name, len(exprs), list(shape)])
+        exprs.extend(entries)
+    add("mass", (n * (n + 1) // 2,), [mass[i, j] for i in range(n) for j in range(i + 1)])
+    add("forcing", (n,), list(forcing))
+    for name, shape, entries in groups:
+        add(name, shape, entries)
+    return layout, exprs
+
+
+def _frozen_index(friction, state) -> int:
+    """The coordinate a stuck friction (or a stop in contact) fixes, when its gradient
+    is one entry free of the state (``state``: coordinates, speeds, time) that is a
+    number or non-zero by its parameters' assumptions (a gear ratio ``i``, positive)."""
+    nonzero = [i for i, g in enumerate(friction.gradient) if g != 0]
+    if len(nonzero) != 1:
+        return -1
+    entry = friction.gradient[nonzero[0]]
+    if not entry.free_symbols & state and (entry.is_number or entry.is_nonzero):
+        return nonzero[0]
+    return -1
+
+
+# ------------------------------------------------------------ solving M a = f in code
+def _cholesky_lines(n, m):
+    """Lines factoring ``M = L L'`` (``m[(i, j)]``: names of the lower entries, ``None``
+    where structurally zero); a pivot that is not positive becomes NaN. Returns the lines
+    and the set of entries of ``L`` that are structurally zero (a diagonal mass matrix
+    costs one division each)."""
+    lines, zero = [], set()
+    for i in range(n):
+        for j in range(i):
+            products = [f"L{i}_{k} * L{j}_{k}" for k in range(j)
+                        if (i, k) not in zero and (j, k) not in zero]
+            if m[(i, j)] is None and not products:
+                zero.add((i, j))
+                continue
+            lines.append(f"L{i}_{j} = ({' - '.join([m[(i, j)] or '0.0'] + products)}) / L{j}_{j}")
+        products = [f"L{i}_{k} * L{i}_{k}" for k in range(i) if (i, k) not in zero]
+        lines.append(f"L{i}_{i} = {' - '.join([m[(i, i)] or '0.0'] + products)}")
+        lines.append(f"L{i}_{i} = sqrt(L{i}_{i}) if L{i}_{i} > 0.0 else nan")
+    return lines, zero
+
+
+def _solve_lines(n, rhs, out, zero):
+    """Lines solving ``L L' out = rhs`` with the factor of :func:`_cholesky_lines`."""
+    lines = []
+    for i in range(n):
+        terms = [f"L{i}_{k} * {out}z{k}" for k in range(i) if (i, k) not in zero]
+        lines.append(f"{out}z{i} = ({' - '.join([rhs[i]] + terms)}) / L{i}_{i}")
+    for i in reversed(range(n)):
+        terms = [f"L{k}_{i} * {out}{k}" for k in range(i + 1, n) if (k, i) not in zero]
+        lines.append(f"{out}{i} = ({' - '.join([f'{out}z{i}'] + terms)}) / L{i}_{i}")
+    return lines
+
+
+def _lower_names(mass, names):
+    """Names of the lower entries of ``mass`` (``None`` for structural zeros)."""
+    n = mass.shape[0]
+    return {(i, j): (None if mass[i, j] == 0 else next(names))
+            for i in range(n) for j in range(i + 1)}
+
+
+def _rhs_source(source, mass, forcing, n, states, coordinates):
+    """dy/dt = [u, M^-1 f] with an unrolled Cholesky solve (numpy beyond the limit)."""
+    speeds = [f"out[{i}] = {states[n + i]}" for i in range(n)]
+    if n > UNROLLED_LIMIT:
+        exprs = list(mass) + list(forcing)
+        body = speeds + ["spd_solve([" + "{}, " * (n * n) + "], [" + "{}, " * n
+                         + f"], {n}, out, {n})"]
+        return source("rhs", exprs, body)
+    names = iter(f"{{{k}}}" for k in range(n * n + n))
+    m = _lower_names(mass, names)
+    exprs = [mass[i, j] for (i, j), name in m.items() if name is not None] + list(forcing)
+    f = [next(names) for _ in range(n)]
+    if all(m[(i, j)] is None for i in range(n) for j in range(i)):     # diagonal: divide
+        return source("rhs", exprs, speeds + [
+            f"out[{n + i}] = {f[i]} / {m[(i, i)]} if {m[(i, i)]} > 0.0 else nan"
+            for i in range(n)])
+    lines, zero = _cholesky_lines(n, m)
+    lines += _solve_lines(n, f, "a", zero)
+    return source("rhs", exprs, speeds + [f"out[{n + i}] = a{i}" for i in range(n)], lines)
+
+
+def _jac_source(source, mass, forcing, q_names, u_names):
+    """The analytic Jacobian ``[[0, I], [da/dq, da/du]]`` with ``da/dq = M^-1 (df/dq -
+    dM/dq a)`` and ``da/du = M^-1 df/du``, scalar code with the unrolled Cholesky factor
+    up to the unrolling limit; beyond it the pieces, assembled with numpy."""
+    n = len(q_names)
+    identity = ["out[:, :] = 0.0"] + [f"out[{i}, {n + i}] = 1.0" for i in range(n)]
+    if n > UNROLLED_LIMIT:
+        exprs = list(mass) + list(forcing)
+        exprs += [sp.diff(mass[i, j], qk) for qk in q_names for i in range(n) for j in range(n)]
+        exprs += [sp.diff(forcing[i], v) for v in (*q_names, *u_names) for i in range(n)]
+        return source("jac", exprs, ["jac_assemble([" + "{}, " * len(exprs) + f"], {n}, out)"])
+    names = iter(f"{{{k}}}" for k in range(2 * n ** 3 + 4 * n * n))
+    m = _lower_names(mass, names)
+    exprs = [mass[i, j] for (i, j), name in m.items() if name is not None] + list(forcing)
+    f = [next(names) for _ in range(n)]
+    dm, f_q, f_u = [], [], []                      # f_q[k][i] = df_i/dq_k
+    for qk in q_names:
+        block = [[sp.diff(mass[i, j], qk) for j in range(n)] for i in range(n)]
+        dm.append([[None if e == 0 else next(names) for e in row] for row in block])
+        exprs += [e for row in block for e in row if e != 0]
+    for derivatives, variables in ((f_q, q_names), (f_u, u_names)):
+        for v in variables:
+            column = [sp.diff(forcing[i], v) for i in range(n)]
+            derivatives.append([None if e == 0 else next(names) for e in column])
+            exprs += [e for e in column if e != 0]
+    lines, zero = _cholesky_lines(n, m)
+    lines += _solve_lines(n, f, "a", zero)
+    body = list(identity)
+    for k in range(n):
+        column = [" - ".join([f_q[k][i] or "0.0"] + [f"{dm[k][i][j]} * a{j}" for j in range(n)
+                                                      if dm[k][i][j] is not None])
+                  for i in range(n)]
+        lines += _solve_lines(n, [f"({c})" for c in column], f"q{k}_", zero)
+        lines += _solve_lines(n, [f_u[k][i] or "0.0" for i in range(n)], f"u{k}_", zero)
+        body += [f"out[{n + i}, {k}] = q{k}_{i}" for i in range(n)]
+        body += [f"out[{n + i}, {n + k}] = u{k}_{i}" for i in range(n)]
+    return source("jac", exprs, body, lines)

@@ -1,0 +1,121 @@
+"""Outputs of a scene as plain expressions for the generated ``outputs`` function.
+
+An output is an element's name (its force along its own ``along``: a spring's
+``k * stretch``, a damper's, a load's value, a friction's ``-magnitude * sign`` with the
+run-time sign), ``power:NAME`` (an element's power), ``NAME.slip`` (a friction's sliding
+speed), a sympy expression, or a closed loop's name (its multipliers). Outputs known
+only at run time (a stuck element's holding force, a stop's contact force, a lossy
+gear's mesh and loss moments, ``NAME.mode``) are generated as 0 and filled in by
+:mod:`mechdyn.simulate.mode_outputs`.
+
+>>> import mechdyn as md
+>>> model = md.load_model("models/shoe_brake.py")
+>>> scene = md.Scene("b", initial={}, t_end=1, outputs=["shoe", "shoe.slip"])
+>>> eqs = model.mechanism.equations(scene)
+>>> [(label, str(expr)) for label, expr, _ in outputs(eqs, scene, model.mechanism.elements)]
+[('shoe', '-2*P*R*f*sign(phidot)'), ('shoe.slip', 'phidot')]
+"""
+from __future__ import annotations
+
+import sympy as sp
+
+from mechdyn.declare.elements import Constraint, Damper, Friction, Load, Spring
+from mechdyn.errors import SceneError
+from mechdyn.symbols import t
+from mechdyn.declare.unilateral import Stop
+
+__all__ = ["outputs", "slip_signed", "friction_signed"]
+
+
+def slip_signed(friction, sign):
+    """A friction's magnitude with ``|rate|`` written ``sign * rate`` (the run-time sign:
+    equal while it slides, and the rate is 0 while it is stuck), so that a magnitude of
+    the sliding speed's size (a Stribeck curve, a table) needs no switching function."""
+    return friction.magnitude.xreplace({sp.Abs(friction.rate): sign * friction.rate,
+                                        sp.Abs(-friction.rate): sign * friction.rate})
+
+
+def friction_signed(expr, eqs, signs):
+    """Replace ``sign(rate)`` of each friction by its run-time sign parameter (and
+    ``|rate|`` by ``sign * rate``)."""
+    replace = {}
+    for fr, s in zip(eqs.frictions, signs):
+        replace.update({sp.sign(fr.rate): s, sp.Heaviside(fr.rate): s,
+                        sp.Abs(fr.rate): s * fr.rate, sp.Abs(-fr.rate): s * fr.rate})
+    return sp.sympify(expr).xreplace(replace)
+
+
+def outputs(eqs, scene, elements) -> list:
+    """``(label, plain expression, item)`` for each requested output (``item``: what
+    the scene asked for, an element name or ``power:NAME``; an expression as text)."""
+    if scene is None:
+        return []
+    result = []
+    for label, item in scene.labelled_outputs():
+        if isinstance(item, str):
+            if item.startswith("power:"):
+                name = item[len("power:"):]
+                if name not in eqs.powers and name in {g.name for g in eqs.gears}:
+                    result.append((label, sp.S.Zero, item))     # the gear's loss: run time
+                    continue
+                if name not in eqs.powers:
+                    raise SceneError(f"scene {scene.name!r}: output {item!r}: no load "
+                                     f"{name!r} in the scene (loads: {sorted(eqs.powers)})")
+                result.append((label, eqs.powers[name], item))
+                continue
+            if isinstance(elements.get(item), Constraint):   # its multipliers (simulate)
+                result += [(component, sp.S.Zero, item) for component in elements[item].labels]
+                continue
+            if "." in item and item.rsplit(".", 1)[1] in _SUFFIXES:
+                result.append((label, _coupling_output(eqs, scene, item), item))
+                continue
+            result.append((label, _element_output(eqs, scene, item, elements), item))
+        elif isinstance(item, sp.Basic):
+            result.append((label, eqs.to_plain(sp.sympify(item)), label))
+        else:
+            raise SceneError(f"scene {scene.name!r}: output {item!r} is neither an element "
+                             "name, 'power:NAME', nor a sympy expression")
+    return result
+
+
+_SUFFIXES = ("slip", "mode", "loss")
+
+
+def _coupling_output(eqs, scene, item):
+    """``NAME.slip`` (the sliding speed of a friction, one-way clutch or lossy gear),
+    ``NAME.mode`` (+1/-1 sliding, 0 stuck, 2 free; a stop: 0 open, +1/-1 resting on its
+    lower/upper limit) and ``NAME.loss`` (a lossy gear's loss moment); the last two are
+    filled in at run time (:mod:`mechdyn.simulate.mode_outputs`)."""
+    name, suffix = item.rsplit(".", 1)
+    friction = next((fr for fr in eqs.frictions if fr.name == name), None)
+    stop = any(c.element == name for c in eqs.contacts)
+    if suffix == "slip" and friction is not None:
+        return friction.rate
+    if (suffix == "mode" and (friction is not None or stop)) or \
+            (suffix == "loss" and friction is not None and friction.kind == "gear"):
+        return sp.S.Zero
+    raise SceneError(f"scene {scene.name!r}: output {item!r}: no friction, one-way clutch,"
+                     f" stop or lossy gear {name!r} in the scene with a {suffix!r} output")
+
+
+def _element_output(eqs, scene, name, elements):
+    element = elements.get(name) if name in eqs.elements else None
+    if element is None:
+        raise SceneError(f"scene {scene.name!r}: output {name!r} is not an element of the "
+                         f"scene (elements: {list(eqs.elements)})")
+    if isinstance(element, Spring):
+        return eqs.to_plain(element.k * element.stretch)
+    if isinstance(element, Damper):
+        stretch = eqs.to_plain(element.stretch)
+        rate = sum((sp.diff(stretch, q) * u for q, u in zip(eqs.q, eqs.u)), sp.S.Zero) \
+            + sp.diff(stretch, t)
+        return eqs.to_plain(element.c) * rate
+    if isinstance(element, Load):
+        return eqs.to_plain(element.value)
+    if isinstance(element, Friction):
+        fr = next(f for f in eqs.frictions if f.name == name)
+        return -fr.magnitude * sp.sign(fr.rate)
+    if isinstance(element, Stop):          # the contact force: filled in at run time
+        return sp.S.Zero
+    raise SceneError(f"scene {scene.name!r}: output {name!r}: a {type(element).__name__.lower()}"
+                     " has no single force to record; ask for an expression instead")

@@ -1,0 +1,329 @@
+"""The elements a mechanism is declared from: links and the loads acting on them.
+
+Every element has a unique ``name`` and optional ``tags``; scenes select loads by either.
+Values are sympy expressions (or numbers) of the coordinates, their speeds, the time
+``md.t`` and parameters (any other symbols).
+
+>>> import sympy as sp, mechdyn as md
+>>> phi = md.coordinate("phi")
+>>> md.Load("drive", sp.Symbol("M_1"), along=phi).value
+M_1
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import sympy as sp
+from sympy.core.sympify import SympifyError, _sympify
+
+from mechdyn.errors import DeclarationError
+
+__all__ = ["Element", "Link", "Load", "Spring", "Damper", "Gravity", "Friction",
+           "Constraint", "Joint", "FRAME", "is_structural", "as_expression"]
+
+FRAME = "frame"     # the name joints use for the fixed frame (ground)
+
+
+def as_expression(value, what: str) -> sp.Expr:
+    """Convert a number or sympy expression; strings are refused (no eval of text)."""
+    if isinstance(value, str):
+        raise DeclarationError(
+            f"{what}: got the string {value!r}; pass a sympy expression or a number "
+            "(build it with sp.symbols / md.coordinate), strings are never evaluated")
+    try:
+        expr = _sympify(value)
+    except SympifyError:
+        raise DeclarationError(f"{what}: {value!r} is not a number or sympy expression") from None
+    if not isinstance(expr, sp.Expr):
+        raise DeclarationError(f"{what}: {value!r} is not a scalar expression")
+    if expr.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
+        raise DeclarationError(f"{what}: {value!r} is not finite")
+    return expr
+
+
+def _nonnegative(expr: sp.Expr, what: str) -> sp.Expr:
+    """Refuse values that are negative by their numbers or their symbols' assumptions
+    (``-m`` with ``m`` declared positive)."""
+    if expr.is_negative:
+        raise DeclarationError(f"{what} must not be negative, got {expr}")
+    return expr
+
+
+def _tags(tags) -> tuple:
+    if isinstance(tags, str):
+        return (tags,)
+    return tuple(tags)
+
+
+@dataclass(frozen=True)
+class Element:
+    """Base of all elements: a name and tags."""
+    name: str
+    tags: tuple = field(default=(), kw_only=True)
+
+    def __post_init__(self):
+        if not isinstance(self.name, str) or not self.name:
+            raise DeclarationError(f"element name must be a non-empty string, got {self.name!r}")
+        object.__setattr__(self, "tags", _tags(self.tags))
+
+    def _expr(self, attribute: str, nonnegative=False):
+        what = f"{type(self).__name__.lower()} {self.name!r}: {attribute}"
+        expr = as_expression(getattr(self, attribute), what)
+        if nonnegative:
+            _nonnegative(expr, what)
+        object.__setattr__(self, attribute, expr)
+
+    def expressions(self) -> dict:
+        """The element's expressions by attribute name."""
+        return {}
+
+
+@dataclass(frozen=True)
+class Link(Element):
+    """A rigid body: mass ``m`` at centre of mass ``(x, y)``, moment of inertia ``J``
+    about the centre of mass, rotation ``angle``. All positions are expressions of the
+    coordinates (and possibly of ``md.t`` for an imposed motion). ``points``: pairs
+    ``(x, y)`` an animation draws as the link's outline (joints, ends); they do not
+    enter the dynamics."""
+    m: object = 0
+    J: object = 0
+    x: object = 0
+    y: object = 0
+    angle: object = 0
+    points: tuple = field(default=(), repr=False)
+
+    def __post_init__(self):
+        super().__post_init__()
+        self._expr("m", nonnegative=True)
+        self._expr("J", nonnegative=True)
+        for attribute in ("x", "y", "angle"):
+            self._expr(attribute)
+        points = []
+        for index, point in enumerate(self.points):
+            if not (isinstance(point, (tuple, list)) and len(point) == 2):
+                raise DeclarationError(f"link {self.name!r}: points[{index}] must be a pair "
+                                       f"(x, y), got {point!r}")
+            points.append(tuple(as_expression(value, f"link {self.name!r}: points[{index}]")
+                                for value in point))
+        object.__setattr__(self, "points", tuple(points))
+
+    def expressions(self):
+        return {"m": self.m, "J": self.J, "x": self.x, "y": self.y, "angle": self.angle}
+
+
+@dataclass(frozen=True)
+class Load(Element):
+    """A force or moment ``value`` acting along the displacement or angle ``along``.
+
+    Its generalized force is ``value * d(along)/dq`` (virtual power). With an
+    ``efficiency`` eta the load sits behind a lossy transmission: when it draws power
+    (value and motion opposed) the drive must supply ``value/eta``; when it feeds power
+    back only ``value*eta`` arrives. ``on`` names the link(s) it acts on, for
+    kinetostatics (joint reactions); without it the link is found from ``along``.
+    """
+    value: object = 0
+    along: object = None
+    efficiency: object = None
+    on: tuple = ()
+
+    def __post_init__(self):
+        super().__post_init__()
+        if self.along is None:
+            raise DeclarationError(f"load {self.name!r}: 'along' is required "
+                                   "(the angle or displacement the load acts along)")
+        on = (self.on,) if isinstance(self.on, str) else tuple(self.on or ())
+        if not all(isinstance(n, str) for n in on):
+            raise DeclarationError(f"load {self.name!r}: on= takes link names, got {self.on!r}")
+        object.__setattr__(self, "on", on)
+        self._expr("value")
+        self._expr("along")
+        if self.efficiency is not None:
+            self._expr("efficiency")
+            eta = self.efficiency
+            if sp.Le(eta, 0) == sp.true or sp.Gt(eta, 1) == sp.true:
+                raise DeclarationError(
+                    f"load {self.name!r}: efficiency must lie in (0, 1], got {eta}")
+
+    def expressions(self):
+        out = {"value": self.value, "along": self.along}
+        if self.efficiency is not None:
+            out["efficiency"] = self.efficiency
+        return out
+
+
+@dataclass(frozen=True)
+class Spring(Element):
+    """A linear spring of stiffness ``k`` on the ``stretch`` (an expression that is zero
+    when the spring is relaxed): potential ``k stretch^2 / 2``, force ``-k stretch``.
+    A stiffness that varies (a gear mesh) acts as the force ``-k(q, t) stretch``."""
+    k: object = 0
+    stretch: object = 0
+
+    def __post_init__(self):
+        super().__post_init__()
+        self._expr("k", nonnegative=True)
+        self._expr("stretch")
+
+    def expressions(self):
+        return {"k": self.k, "stretch": self.stretch}
+
+
+@dataclass(frozen=True)
+class Damper(Element):
+    """A linear viscous damper ``c`` on the rate of ``stretch``: Rayleigh dissipation
+    ``c stretch'^2 / 2``, force ``-c stretch'``."""
+    c: object = 0
+    stretch: object = 0
+
+    def __post_init__(self):
+        super().__post_init__()
+        self._expr("c", nonnegative=True)
+        self._expr("stretch")
+
+    def expressions(self):
+        return {"c": self.c, "stretch": self.stretch}
+
+
+@dataclass(frozen=True)
+class Gravity(Element):
+    """Uniform gravity ``g`` along -y: potential ``m g y`` of every link."""
+    g: object = 9.81
+
+    def __post_init__(self):
+        super().__post_init__()
+        self._expr("g")
+
+    def expressions(self):
+        return {"g": self.g}
+
+
+@dataclass(frozen=True)
+class Friction(Element):
+    """Coulomb friction (a brake) of magnitude ``moment`` along ``along``: opposes
+    sliding with ``moment`` (which may depend on the sliding speed: Stribeck, tables),
+    and holds at rest while the other loads stay within ``peak * moment`` (static
+    friction, MSL's ``tau0_max = peak * tau0``; ``peak >= 1``)."""
+    moment: object = 0
+    along: object = None
+    peak: object = 1
+
+    def __post_init__(self):
+        super().__post_init__()
+        if self.along is None:
+            raise DeclarationError(f"{type(self).__name__.lower()} {self.name!r}: 'along' "
+                                   "is required")
+        self._expr("moment", nonnegative=True)
+        self._expr("along")
+        self._expr("peak")
+        if self.peak.is_number and not self.peak >= 1:
+            raise DeclarationError(f"{type(self).__name__.lower()} {self.name!r}: peak = "
+                                   f"{float(self.peak):g} must be at least 1 (static "
+                                   "friction is never below sliding friction)")
+
+    def expressions(self):
+        out = {"moment": self.moment, "along": self.along}
+        if self.peak != 1:
+            out["peak"] = self.peak
+        return out
+
+
+@dataclass(frozen=True)
+class Constraint(Element):
+    """Holonomic constraints ``g(q, t) = 0`` between the coordinates (a closed loop).
+
+    ``equations``: the scalar expressions that vanish; ``components``: their names
+    (``"x"``, ``"y"`` of a vector loop, empty for one constraint); ``terms``: a vector
+    loop's ``(length, angle)`` pairs, ``sum length e^{i angle} = 0`` (empty otherwise).
+    Like links, constraints are always part of the mechanism (never a scene's effect).
+    """
+    equations: tuple = ()
+    components: tuple = ()
+    terms: tuple = ()
+
+    def __post_init__(self):
+        super().__post_init__()
+        if self.terms:
+            pairs = []
+            for k, term in enumerate(self.terms):
+                if not (isinstance(term, (tuple, list)) and len(term) == 2):
+                    raise DeclarationError(
+                        f"loop {self.name!r}: term {k + 1} is {term!r}; give each term as "
+                        "(length, angle), meaning length * e^(i angle)")
+                pairs.append((as_expression(term[0], f"loop {self.name!r}: length {k + 1}"),
+                              as_expression(term[1], f"loop {self.name!r}: angle {k + 1}")))
+            object.__setattr__(self, "terms", tuple(pairs))
+            object.__setattr__(self, "equations", (
+                sp.Add(*[l * sp.cos(a) for l, a in pairs]),
+                sp.Add(*[l * sp.sin(a) for l, a in pairs])))
+            object.__setattr__(self, "components", ("x", "y"))
+        else:
+            equations = self.equations
+            if not isinstance(equations, (tuple, list)):
+                equations = (equations,)
+            object.__setattr__(self, "equations", tuple(
+                as_expression(g, f"constraint {self.name!r}") for g in equations))
+        if not self.equations:
+            raise DeclarationError(f"constraint {self.name!r}: no equation given")
+
+    @property
+    def labels(self) -> tuple:
+        """The names of the scalar constraints: ``NAME.x``, ``NAME.y`` or ``NAME``."""
+        if self.components:
+            return tuple(f"{self.name}.{c}" for c in self.components)
+        if len(self.equations) == 1:
+            return (self.name,)
+        return tuple(f"{self.name}[{k}]" for k in range(len(self.equations)))
+
+    def expressions(self):
+        return dict(zip(self.labels, self.equations))
+
+
+@dataclass(frozen=True)
+class Joint(Element):
+    """A joint between two links (``"frame"`` for the fixed frame), for kinetostatics.
+
+    ``kind``: ``"revolute"`` (a pin at the point ``at``: force, no moment),
+    ``"prismatic"`` (a slide along the angle ``direction``: force normal to it and a
+    moment; ``at`` is the point of the slider the normal force is referred to) or
+    ``"weld"`` (rigidly joined, e.g. a flywheel keyed on the crank: force and moment).
+    The reaction of a joint is the force (and moment) the first link exerts on the second.
+    """
+    links: tuple = ()
+    at: tuple = ()
+    kind: str = "revolute"
+    direction: object = None
+
+    def __post_init__(self):
+        super().__post_init__()
+        what = f"joint {self.name!r}"
+        links = self.links
+        if isinstance(links, str) or len(links) != 2 or not all(isinstance(n, str)
+                                                                  for n in links):
+            raise DeclarationError(f"{what}: links must be two link names (or 'frame'), "
+                                   f"got {links!r}")
+        if links[0] == links[1]:
+            raise DeclarationError(f"{what}: joins {links[0]!r} to itself")
+        object.__setattr__(self, "links", tuple(links))
+        if self.kind not in ("revolute", "prismatic", "weld"):
+            raise DeclarationError(f"{what}: kind must be 'revolute', 'prismatic' or "
+                                   f"'weld', got {self.kind!r}")
+        if not (isinstance(self.at, (tuple, list)) and len(self.at) == 2):
+            raise DeclarationError(f"{what}: at must be the point (x, y), got {self.at!r}")
+        object.__setattr__(self, "at", tuple(as_expression(v, f"{what}: at")
+                                             for v in self.at))
+        if (self.kind == "prismatic") != (self.direction is not None):
+            raise DeclarationError(f"{what}: a prismatic joint needs direction= (the angle "
+                                   "of its slide), other joints take none")
+        if self.direction is not None:
+            self._expr("direction")
+
+    def expressions(self):
+        out = {"x": self.at[0], "y": self.at[1]}
+        if self.direction is not None:
+            out["direction"] = self.direction
+        return out
+
+
+def is_structural(element) -> bool:
+    """Links, loops and joints: always part of the mechanism, never a scene's effect."""
+    return isinstance(element, (Link, Constraint, Joint))

@@ -1,0 +1,425 @@
+"""The Mechanism: generalized coordinates, links and loads, declared in Python.
+
+>>> import sympy as sp, mechdyn as md
+>>> phi = md.coordinate("phi")
+>>> J1, m3, l, M1, F3 = sp.symbols("J_1 m_3 l M_1 F_3", positive=True)
+>>> yoke = md.Mechanism("Scotch yoke", coordinates=[phi])
+>>> yoke.link("crank", J=J1, angle=phi)
+Link(name='crank', tags=(), m=0, J=J_1, x=0, y=0, angle=phi(t))
+>>> _ = yoke.link("yoke", m=m3, x=l * sp.cos(phi))
+>>> _ = yoke.load("drive", M1, along=phi)
+>>> _ = yoke.load("resistance", F3, along=l * sp.cos(phi))
+>>> yoke.reduced_inertia()
+J_1 + l**2*m_3*sin(phi)**2
+>>> yoke.reduced_moment()
+-F_3*l*sin(phi) + M_1
+"""
+from __future__ import annotations
+
+import sympy as sp
+from sympy.core.function import AppliedUndef
+
+from mechdyn.declare.couplings import Couplings
+from mechdyn.declare.elements import (FRAME, Constraint, Damper, Element, Friction, Gravity, Joint, Link,
+                       Load, Spring)
+from mechdyn.errors import DeclarationError
+from mechdyn.symbols import is_coordinate, t
+from mechdyn.declare.unilateral import LossyGear, OneWayClutch, Stop
+
+__all__ = ["Mechanism"]
+
+# What each attribute of an element may depend on: coordinates, speeds, time.
+_ALLOWED = {
+    (Link, "m"): "", (Link, "J"): "",
+    (Link, "x"): "qt", (Link, "y"): "qt", (Link, "angle"): "qt",
+    (Load, "value"): "qvt", (Load, "along"): "qt", (Load, "efficiency"): "",
+    (Spring, "k"): "qt", (Spring, "stretch"): "qt",
+    (Damper, "c"): "qt", (Damper, "stretch"): "qt",
+    (Gravity, "g"): "",
+    (Friction, "moment"): "qvt", (Friction, "along"): "qt", (Friction, "peak"): "",
+    (OneWayClutch, "release"): "",
+    (Stop, "along"): "qt", (Stop, "lower"): "", (Stop, "upper"): "", (Stop, "restitution"): "",
+    (LossyGear, "eta_forward"): "qvt", (LossyGear, "eta_backward"): "qvt",
+    (LossyGear, "bearing_forward"): "qvt", (LossyGear, "bearing_backward"): "qvt",
+    (Joint, "x"): "qt", (Joint, "y"): "qt", (Joint, "direction"): "qt",
+}
+_MUST_MOVE = {(Load, "along"), (Spring, "stretch"), (Damper, "stretch"), (Friction, "along"),
+              (Stop, "along")}
+_WORDS = {"q": "the coordinates", "v": "speeds", "t": "the time t"}
+
+
+class Mechanism(Couplings):
+    """A machine: generalized coordinates, links (inertia and kinematics) and loads.
+
+    Parameters
+    ----------
+    name : str
+        Shown in reports.
+    coordinates : list
+        Generalized coordinates made with :func:`mechdyn.coordinate`.
+    units : dict, optional
+        Units of coordinates (``{x: "m"}``; default ``"rad"``) and of parameters
+        (``{P: "N", R: "m", I: "kg*m^2", f: "1"}``). With parameter units declared,
+        the dimension of every element's contribution to every equation is checked
+        (:meth:`check_dimensions`, also when the equations are derived).
+    independent : list, optional
+        With closed loops (:meth:`loop`, :meth:`constraint`): the independent
+        coordinates (a crank angle), whose initial values a scene gives; the others are
+        dependent, assembled from the loops. Default: the first ``n - m`` coordinates
+        (``m`` scalar constraints).
+    """
+
+    def __init__(self, name: str, coordinates, units=None, independent=None):
+        coordinates = list(coordinates)
+        if not coordinates:
+            raise DeclarationError(f"mechanism {name!r}: give at least one coordinate")
+        for q in coordinates:
+            if not is_coordinate(q):
+                raise DeclarationError(
+                    f"mechanism {name!r}: {q!r} is not a coordinate; "
+                    "make coordinates with md.coordinate('name')")
+        names = [q.func.__name__ for q in coordinates]
+        for n in names:
+            if names.count(n) > 1:
+                raise DeclarationError(f"mechanism {name!r}: coordinate {n!r} declared twice")
+        self.name = name
+        self.coordinates = tuple(coordinates)
+        self.units = {}
+        self.parameter_units = {}
+        self.elements: dict[str, Element] = {}
+        self._speeds = {sp.Derivative(q, t) for q in self.coordinates}
+        self._derived = {}
+        self._memo = {}                 # per scene: cache key, output units
+        self._independent = None
+        if independent is not None:
+            chosen = [independent] if is_coordinate(independent) else list(independent)
+            for q in chosen:
+                if q not in self.coordinates:
+                    raise DeclarationError(
+                        f"mechanism {name!r}: independent coordinate {q!r} is not one of "
+                        f"its coordinates {_names(coordinates)}")
+            self._independent = tuple(chosen)
+        self._dimensions_checked = False
+        self.declare_units(units or {})
+
+    def declare_units(self, units: dict):
+        """Declare units of coordinates and parameters (``{x: "m", P: "kN"}``; ``"1"``
+        for a dimensionless parameter); see the class docstring."""
+        from mechdyn.parse import ValueTextError, unit_terms
+        for key, unit in units.items():
+            if not isinstance(unit, str):
+                raise DeclarationError(f"mechanism {self.name!r}: the unit of {key} must "
+                                       f"be a text such as 'N*m', got {unit!r}")
+            try:
+                if unit.strip() not in ("", "1"):
+                    unit_terms(unit)
+            except ValueTextError as error:
+                raise DeclarationError(f"mechanism {self.name!r}: unit of {key}: "
+                                       f"{error}") from None
+            if key in self.coordinates:
+                self.units[key.func.__name__] = unit
+            elif isinstance(key, sp.Symbol) and key != t:
+                self.parameter_units[key.name] = unit
+            else:
+                raise DeclarationError(
+                    f"mechanism {self.name!r}: units given for {key}, which is neither one "
+                    f"of its coordinates {_names(self.coordinates)} nor a parameter symbol")
+        self._derived.clear()
+        self._memo.clear()
+        self._dimensions_checked = False
+
+    # ----------------------------------------------------------------- declaring
+    def add(self, element: Element) -> Element:
+        """Add an element (all the declaring methods below come here)."""
+        if element.name in self.elements:
+            raise DeclarationError(
+                f"mechanism {self.name!r}: an element named {element.name!r} exists already "
+                f"({type(self.elements[element.name]).__name__.lower()}); names must be unique")
+        if element.name == FRAME:
+            raise DeclarationError(f"mechanism {self.name!r}: {FRAME!r} names the fixed "
+                                   "frame in joints; give the element another name")
+        for attribute, expr in element.expressions().items():
+            self._check_dependencies(element, attribute, expr)
+        for index, point in enumerate(getattr(element, "points", ())):
+            for axis, expr in zip("xy", point):
+                self._check_dependencies(element, f"point {index} {axis}", expr)
+        self._check_link_names(element)
+        self.elements[element.name] = element
+        self._derived.clear()
+        self._memo.clear()
+        self._dimensions_checked = False
+        return element
+
+    def link(self, name, m=0, J=0, x=0, y=0, angle=0, tags=(), points=()) -> Link:
+        """A rigid link: mass ``m`` at ``(x, y)``, inertia ``J`` about its centre of
+        mass, rotation ``angle`` (expressions of the coordinates); ``points``, pairs
+        ``(x, y)`` of expressions, are what an animation draws (joints, ends)."""
+        return self.add(Link(name, m=m, J=J, x=x, y=y, angle=angle, tags=tags,
+                             points=points))
+
+    def load(self, name, value, along, efficiency=None, tags=(), on=()) -> Load:
+        """A force or moment ``value`` acting along ``along`` (see :class:`Load`);
+        ``on``: the link (or two links) it acts on, for joint reactions."""
+        return self.add(Load(name, value=value, along=along, efficiency=efficiency,
+                             tags=tags, on=on))
+
+    def spring(self, name, k, stretch, tags=()) -> Spring:
+        """A linear spring of stiffness ``k`` on ``stretch``."""
+        return self.add(Spring(name, k=k, stretch=stretch, tags=tags))
+
+    def damper(self, name, c, stretch, tags=()) -> Damper:
+        """A viscous damper of coefficient ``c`` on the rate of ``stretch``."""
+        return self.add(Damper(name, c=c, stretch=stretch, tags=tags))
+
+    def gravity(self, g=9.81, name="gravity", tags=()) -> Gravity:
+        """Gravity ``g`` acting along -y on every link."""
+        return self.add(Gravity(name, g=g, tags=tags))
+
+    def friction(self, name, moment, along, peak=1, tags=()) -> Friction:
+        """Coulomb friction of magnitude ``moment`` along ``along`` (a brake); at rest
+        it holds up to ``peak * moment`` (breakaway, static friction)."""
+        return self.add(Friction(name, moment=moment, along=along, peak=peak, tags=tags))
+
+    def loop(self, name, *terms, tags=()) -> Constraint:
+        """A closed vector loop ``sum length_i e^(i angle_i) = 0``: two scalar
+        constraints (``NAME.x``, ``NAME.y``). Each term is ``(length, angle)``, e.g. a
+        four-bar ``(a, phi), (b, theta_2), (-c, theta_3), (-d, 0)``; lengths and angles
+        are expressions of the coordinates (a slider's travel is a length)."""
+        if len(terms) == 1 and isinstance(terms[0], list):
+            terms = tuple(terms[0])
+        if len(terms) < 2:
+            raise DeclarationError(f"loop {name!r}: a closed loop needs at least two terms "
+                                   "(length, angle)")
+        return self.add(Constraint(name, terms=tuple(terms), tags=tags))
+
+    def constraint(self, name, g, tags=()) -> Constraint:
+        """A holonomic constraint ``g(q, t) = 0`` (one expression, or a list of them)."""
+        return self.add(Constraint(name, equations=g, tags=tags))
+
+    def joint(self, name, links, at, kind="revolute", direction=None, tags=()) -> Joint:
+        """A joint for kinetostatics: ``links`` (two link names, ``"frame"`` for the
+        fixed frame) joined at the point ``at = (x, y)``; ``kind`` ``"revolute"``,
+        ``"prismatic"`` (with the slide's angle ``direction``) or ``"weld"``. Its
+        reaction is the force the first link exerts on the second."""
+        return self.add(Joint(name, links=links, at=at, kind=kind, direction=direction,
+                              tags=tags))
+
+    # ---------------------------------------------------------------- closed loops
+    @property
+    def constraints(self) -> dict:
+        """The loops and constraints by name."""
+        return {n: e for n, e in self.elements.items() if isinstance(e, Constraint)}
+
+    @property
+    def joints(self) -> dict:
+        """The joints by name."""
+        return {n: e for n, e in self.elements.items() if isinstance(e, Joint)}
+
+    @property
+    def independent(self) -> tuple:
+        """The independent coordinates: all of them without loops; with loops the ones
+        given as ``independent=`` or else the first ``n - m``. Checked: ``m`` scalar
+        constraints must leave at least one."""
+        m = sum(len(c.equations) for c in self.constraints.values())
+        n = len(self.coordinates)
+        if m >= n:
+            raise DeclarationError(
+                f"mechanism {self.name!r}: {m} scalar constraints on {n} coordinates "
+                f"{_names(self.coordinates)} leave no degree of freedom; declare the "
+                "dependent coordinates as coordinates too, or remove a constraint")
+        if self._independent is None:
+            return self.coordinates[:n - m]
+        if len(self._independent) != n - m:
+            raise DeclarationError(
+                f"mechanism {self.name!r}: {len(self._independent)} independent coordinates "
+                f"{_names(self._independent)} but {n} coordinates and {m} scalar "
+                f"constraints leave {n - m} degrees of freedom")
+        return self._independent
+
+    @property
+    def dependent(self) -> tuple:
+        """The coordinates the loops determine."""
+        chosen = self.independent
+        return tuple(q for q in self.coordinates if q not in chosen)
+
+    def _check_link_names(self, element):
+        links = {n for n, e in self.elements.items() if isinstance(e, Link)}
+        if isinstance(element, Joint):
+            names, what = element.links, f"joint {element.name!r}"
+        elif isinstance(element, Load):
+            names, what = element.on, f"load {element.name!r}: on"
+        else:
+            return
+        for n in names:
+            if n != FRAME and n not in links:
+                raise DeclarationError(f"{what}: {n!r} is not a link of {self.name!r} "
+                                       f"(links: {sorted(links)}, or {FRAME!r}); declare "
+                                       "the links first")
+
+    def _check_dependencies(self, element, attribute, expr):
+        what = f"{type(element).__name__.lower()} {element.name!r}: {attribute} = {expr}"
+        if isinstance(element, Constraint) and attribute in element.labels:
+            allowed = "qt"
+            if not expr.atoms(AppliedUndef) & set(self.coordinates):
+                raise DeclarationError(
+                    f"{what}: does not involve the coordinates {_names(self.coordinates)}; "
+                    "a constraint must tie coordinates together")
+        else:
+            allowed = _rule(_ALLOWED, element, attribute, "qt")       # points: like x, y
+        coords = set(self.coordinates)
+        for d in expr.atoms(sp.Derivative):
+            if d not in self._speeds:
+                raise DeclarationError(
+                    f"{what}: {d} is not the speed of a declared coordinate "
+                    f"(declared: {_names(self.coordinates)})")
+            if "v" not in allowed:
+                raise DeclarationError(f"{what}: may not depend on speeds "
+                                       f"(allowed: {_allowed_words(allowed)})")
+        bare = expr.subs({d: 0 for d in expr.atoms(sp.Derivative)}) if "v" in allowed else expr
+        for f in expr.atoms(AppliedUndef):
+            if f not in coords:
+                raise DeclarationError(
+                    f"{what}: {f} is not a declared coordinate of mechanism {self.name!r} "
+                    f"(declared: {_names(self.coordinates)})")
+        if "q" not in allowed and bare.atoms(AppliedUndef):
+            raise DeclarationError(f"{what}: must be constant, not depend on the coordinates")
+        if "t" not in allowed and t in expr.free_symbols:
+            raise DeclarationError(f"{what}: must not depend on the time t")
+        if _rule(_MUST_MOVE, element, attribute) and not (expr.atoms(AppliedUndef) & coords):
+            raise DeclarationError(
+                f"{what}: does not depend on the coordinates {_names(self.coordinates)}, "
+                "so it never moves and does no work")
+
+    # ------------------------------------------------------------------ deriving
+    def equations(self, scene=None):
+        """Lagrange's equations ``M(q) q'' = f(q, q', t)`` (an :class:`Equations`),
+        for all elements or for those a :class:`Scene` calls for."""
+        from mechdyn.derive.lagrange import derive
+        from mechdyn.declare.scene import selection
+        key = selection(self, scene)
+        if key not in self._derived:
+            eqs = derive(self, *key)
+            if self.parameter_units:
+                from mechdyn.declare.dimensions import check_equations
+                self.check_dimensions()
+                check_equations(eqs, self)
+            self._derived[key] = eqs
+        return self._derived[key]
+
+    def check_dimensions(self, scene=None):
+        """Check the dimension of every element's contribution to every equation (and,
+        with a scene, its stop conditions and initial values); raises a
+        :class:`DeclarationError` naming the element and both dimensions. Runs by
+        itself when equations are derived, if parameter units are declared."""
+        from mechdyn.declare.dimensions import check_elements, check_equations, check_scene
+        if not self._dimensions_checked:
+            check_elements(self)
+            self._dimensions_checked = True
+        if scene is not None:
+            eqs = self.equations(scene)
+            if not self.parameter_units:         # equations() checks when units exist
+                check_equations(eqs, self)
+            check_scene(self, scene)
+
+    def reduced_inertia(self, scene=None):
+        """The reduced (equivalent) moment of inertia of a one-DOF mechanism; with
+        closed loops an expression of the crank angle and the dependent coordinates."""
+        eqs = self.equations(scene)
+        if eqs.constraints:
+            from mechdyn.derive.transmission import reduced_inertia
+            return reduced_inertia(eqs)
+        return eqs.reduced_inertia
+
+    def reduced_moment(self, scene=None):
+        """The reduced moment of a one-DOF mechanism (includes gravity and springs)."""
+        eqs = self.equations(scene)
+        if eqs.constraints:
+            from mechdyn.derive.transmission import reduced_moment
+            return reduced_moment(eqs)
+        return eqs.reduced_moment
+
+    def transmission_functions(self, order=1, scene=None) -> dict:
+        """Of a one-DOF linkage: ``dq/dphi`` (``order=1``) or ``d2q/dphi2`` (2, written
+        in the first-order ones, ``theta_2'``) of each dependent coordinate, by its
+        plain symbol; expressions of the crank angle and the dependent coordinates."""
+        from mechdyn.derive.transmission import ratios, second_ratios
+        eqs = self.equations(scene)
+        return ratios(eqs) if order == 1 else second_ratios(eqs)
+
+    def latex(self, scene=None) -> str:
+        """The derivation as LaTeX: energies, forces, reduced quantities, equations."""
+        from mechdyn.derive.latex import derivation_latex
+        return derivation_latex(self.equations(scene))
+
+    def compile(self, scene):
+        """The scene's compiled functions (``rhs``, ``jac`` in solve_ivp's ``(t, y)``
+        form after binding ``p``), cached: a :class:`~mechdyn.compile.compiler.CompiledScene`."""
+        from mechdyn.compile.compiler import compile_scene
+        return compile_scene(self, scene)
+
+    def simulate(self, scene, params=None, **options):
+        """Integrate a :class:`Scene`; returns a :class:`Result` (its ``units``: the SI
+        unit of each coordinate and output). ``options``: ``progress``, ``max_steps``,
+        ``max_wall_time``, ``start`` of :func:`mechdyn.simulate.simulation.simulate`."""
+        from mechdyn.errors import SimulationError
+        from mechdyn.simulate.simulation import simulate
+        try:
+            result = simulate(self, scene, params or {}, **options)
+        except SimulationError as error:
+            if error.partial is not None:
+                self._label_units(error.partial, scene)
+            raise
+        return self._label_units(result, scene)
+
+    def linearize(self, scene=None, at=None, params=None, inputs=(), outputs=()):
+        """State-space matrices A, B, C, D about an operating point ``at`` (a
+        :class:`~mechdyn.derive.linear.StateSpace`; inputs: parameters, outputs: coordinates,
+        speeds, element names or expressions)."""
+        from mechdyn.derive.linear import linearize
+        return linearize(self, scene, at, params, inputs, outputs)
+
+    def _label_units(self, result, scene):
+        hit = self._memo.get(("units", id(scene)))
+        if hit is None or hit[0] is not scene:
+            from mechdyn.display import output_units
+            hit = (scene, output_units(self, scene))
+            self._memo[("units", id(scene))] = hit
+        result.units.update({label: unit for label, unit in hit[1].items()
+                             if label not in result.units})
+        return result
+
+    # ------------------------------------------------------------------ viewing
+    def __repr__(self):
+        kinds = {}
+        for e in self.elements.values():
+            kinds[type(e).__name__.lower()] = kinds.get(type(e).__name__.lower(), 0) + 1
+        parts = ", ".join(f"{n} {k}{'s' if n > 1 else ''}" for k, n in kinds.items())
+        return f"Mechanism({self.name!r}, coordinates {_names(self.coordinates)}; {parts})"
+
+    def _repr_latex_(self):
+        return self.equations()._repr_latex_()
+
+    def _repr_html_(self):
+        """Jupyter: the elements as a table and the derivation."""
+        from mechdyn.report.document import mechanism_html
+        return mechanism_html(self)
+
+    def __getstate__(self):
+        """Pickled (e.g. for sweep workers) without the caches of derived equations."""
+        return {**self.__dict__, "_derived": {}, "_memo": {}}
+
+
+def _rule(table, element, attribute, default=None):
+    """The entry of ``table`` for the element's class or its nearest base class."""
+    for cls in type(element).__mro__:
+        if (cls, attribute) in table:
+            return table[(cls, attribute)] if isinstance(table, dict) else True
+    return default
+
+
+def _names(coordinates):
+    return "[" + ", ".join(q.func.__name__ for q in coordinates) + "]"
+
+
+def _allowed_words(allowed):
+    return ", ".join(_WORDS[c] for c in allowed) or "constants only"

@@ -1,0 +1,178 @@
+"""Loading model files: Python files that define ``mechanism``, ``params`` and ``scenes``
+(and, for linkages, optionally ``points``: name -> ``(x, y)``, points whose paths
+``mechdyn linkage`` draws, such as a coupler point).
+
+A model file is the user's own code and runs like any script. Whatever goes wrong in it
+(an exception, ``sys.exit(n)``, a ``KeyboardInterrupt`` it raises itself, ``scenes`` or
+``params`` of the wrong type, parameter values its mechanism refuses) is a
+:class:`ModelFileError` naming the file (and the line), so ``mechdyn models`` lists the
+other files and the command exits with status 2. A real Ctrl-C still interrupts. Values
+typed on the command line are parsed by :mod:`mechdyn.parse`, never evaluated.
+
+>>> model = load_model("models/shoe_brake.py")   # doctest: +SKIP
+>>> sorted(model.scenes)                          # doctest: +SKIP
+['braking']
+"""
+from __future__ import annotations
+
+import runpy
+import signal
+import threading
+from collections.abc import Mapping
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import sympy as sp
+
+from mechdyn.errors import MechdynError
+from mechdyn.declare.mechanism import Mechanism
+from mechdyn.declare.scene import Scene
+
+__all__ = ["Model", "load_model"]
+
+
+class ModelFileError(MechdynError, ValueError):
+    """A model file that cannot be used (missing, or without a mechanism)."""
+
+
+@dataclass
+class Model:
+    """What a model file defines."""
+    path: Path
+    mechanism: Mechanism
+    params: dict = field(default_factory=dict)
+    scenes: dict = field(default_factory=dict)
+    doc: str = ""
+    points: dict = field(default_factory=dict)     # name -> (x, y): coupler points
+
+    def scene(self, name: str) -> Scene:
+        """The scene called ``name``, with a clear error listing the others."""
+        if name not in self.scenes:
+            cycle = "+" in name and all(part in self.scenes for part in name.split("+"))
+            hint = (" (a duty cycle A+B runs with `mechdyn simulate` or md.duty_cycle)"
+                    if cycle else "")
+            raise ModelFileError(f"{self.path}: no scene {name!r}{hint}; scenes: "
+                                 f"{', '.join(self.scenes) or 'none'}")
+        return self.scenes[name]
+
+    def param_symbol(self, name: str):
+        """The parameter symbol called ``name`` (as typed on the command line)."""
+        for symbol in self.params:
+            if str(symbol) == name:
+                return symbol
+        for symbol in self.mechanism.equations().parameters:
+            if str(symbol) == name:
+                return symbol
+        raise ModelFileError(f"{self.path}: no parameter {name!r}; parameters: "
+                             f"{', '.join(sorted(str(s) for s in self.params))}")
+
+
+def load_model(path) -> Model:
+    """Run a model file and collect its ``mechanism``, ``params`` and ``scenes``."""
+    path = Path(path)
+    if not path.is_file():
+        raise ModelFileError(f"model file {path} not found")
+    namespace = _run(path)
+    mechanism = namespace.get("mechanism")
+    if not isinstance(mechanism, Mechanism):
+        raise ModelFileError(f"{path} defines no `mechanism` (a md.Mechanism); a model file "
+                             "defines `mechanism`, `params` (defaults) and `scenes`")
+    scenes = _scenes(path, namespace.get("scenes"))
+    params = _params(path, namespace.get("params"), mechanism)
+    doc = namespace.get("__doc__")
+    points = namespace.get("points") or {}
+    if not isinstance(points, Mapping):
+        raise ModelFileError(f"{path}: `points` must be a dict {{name: (x, y)}}, got "
+                             f"{type(points).__name__}")
+    return Model(path, mechanism, params, scenes, doc.strip() if isinstance(doc, str) else "",
+                 dict(points))
+
+
+def _run(path) -> dict:
+    """The namespace a model file leaves; anything it raises, including ``SystemExit``
+    and a ``KeyboardInterrupt`` of its own, becomes a :class:`ModelFileError`."""
+    with _interrupts_noted() as interrupted:
+        try:
+            return runpy.run_path(str(path), run_name="mechdyn_model")
+        except MechdynError as error:
+            raise ModelFileError(f"{path}{_line_in(error, path)}: {error}") from error
+        except SystemExit as error:
+            raise ModelFileError(f"{path}{_line_in(error, path)}: the model file called "
+                                 f"sys.exit({error.code!r}); a model file defines "
+                                 "`mechanism`, `params` and `scenes` and must not exit") \
+                from None
+        except KeyboardInterrupt as error:
+            if interrupted:
+                raise                                   # a real Ctrl-C
+            raise ModelFileError(f"{path}{_line_in(error, path)}: the model file raised "
+                                 "KeyboardInterrupt") from None
+        except BaseException as error:
+            text = f": {error}" if str(error) else ""
+            raise ModelFileError(f"{path}{_line_in(error, path)}: "
+                                 f"{type(error).__name__}{text}") from error
+
+
+@contextmanager
+def _interrupts_noted():
+    """Note real SIGINTs (Ctrl-C) while a model file runs, so a ``KeyboardInterrupt``
+    the file raises itself can be told from one the user gave."""
+    noted = []
+    previous = signal.getsignal(signal.SIGINT) \
+        if threading.current_thread() is threading.main_thread() else None
+    if not callable(previous):           # not the main thread, or SIGINT ignored or fatal
+        yield noted
+        return
+
+    def note(signum, frame):
+        noted.append(signum)
+        previous(signum, frame)
+    signal.signal(signal.SIGINT, note)
+    try:
+        yield noted
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+def _scenes(path, scenes) -> dict:
+    if scenes is None:
+        return {}
+    if not isinstance(scenes, Mapping):
+        raise ModelFileError(f"{path}: `scenes` must be a dict {{name: md.Scene}}, got "
+                             f"{type(scenes).__name__}")
+    for name, scene in scenes.items():
+        if not isinstance(name, str):
+            raise ModelFileError(f"{path}: scene names must be strings, got {name!r}")
+        if not isinstance(scene, Scene):
+            raise ModelFileError(f"{path}: scenes[{name!r}] is not a md.Scene "
+                                 f"(got {type(scene).__name__})")
+    return dict(scenes)
+
+
+def _params(path, params, mechanism) -> dict:
+    """The default parameter values, checked as every run will check them."""
+    from mechdyn.declare.parameters import ParameterSet
+    if params is None:
+        return {}
+    if not isinstance(params, Mapping):
+        raise ModelFileError(f"{path}: `params` must be a dict {{symbol or name: value}}, "
+                             f"got {type(params).__name__}")
+    for key in params:
+        if not isinstance(key, (sp.Symbol, str)):
+            raise ModelFileError(f"{path}: params: the key {key!r} is not a parameter "
+                                 "symbol or name")
+    try:
+        ParameterSet(defaults=params, mechanism=mechanism)
+    except MechdynError as error:
+        raise ModelFileError(f"{path}: params: {error}") from None
+    return dict(params)
+
+
+def _line_in(error, path) -> str:
+    """``", line N"`` of the deepest traceback frame inside the model file."""
+    line, tb = "", error.__traceback__
+    while tb is not None:
+        if Path(tb.tb_frame.f_code.co_filename).resolve() == path.resolve():
+            line = f", line {tb.tb_lineno}"
+        tb = tb.tb_next
+    return line

@@ -1,0 +1,203 @@
+"""What a mechanism requires of its parameter values: the symbols' declared assumptions
+(``positive=True``, ``integer=True``, ...) and the rules of the elements that use them
+(link masses and inertias, stiffnesses, damping and friction magnitudes not negative;
+efficiencies in (0, 1]). :class:`~mechdyn.declare.parameters.ParameterSet` applies them.
+
+>>> import sympy as sp, mechdyn as md
+>>> phi = md.coordinate("phi")
+>>> disc = md.Mechanism("disc", [phi])
+>>> _ = disc.link("disc", J=sp.Symbol("J", positive=True), angle=phi)
+>>> facts = facts_of(disc)
+>>> sorted(facts.symbols), facts.usage["J"]
+(['J'], {"link 'disc'"})
+>>> check_values(facts, {"J": -1.0}, lambda name: {facts.symbols[name]})
+Traceback (most recent call last):
+...
+mechdyn.errors.ParameterError: parameter J = -1 is negative, but J is declared positive=True (used by link 'disc')
+"""
+from __future__ import annotations
+
+import functools
+import math
+import weakref
+
+import sympy as sp
+from sympy.core.function import AppliedUndef
+
+from mechdyn.declare.elements import Damper, Friction, Link, Load, Spring
+from mechdyn.errors import DeclarationError, ParameterError
+from mechdyn.symbols import t
+from mechdyn.declare.unilateral import LossyGear, OneWayClutch, Stop
+
+__all__ = ["MechanismFacts", "facts_of", "scene_symbols", "check_values"]
+
+# Assumptions a value is checked against: fact -> (test on the float, what it must be).
+_FACTS = {
+    "positive": (lambda v: v > 0, "positive"),
+    "nonnegative": (lambda v: v >= 0, "zero or positive"),
+    "negative": (lambda v: v < 0, "negative"),
+    "nonpositive": (lambda v: v <= 0, "zero or negative"),
+    "nonzero": (lambda v: v != 0, "non-zero"),
+    "zero": (lambda v: v == 0, "zero"),
+    "integer": (lambda v: v == int(v), "a whole number"),
+    "even": (lambda v: v == int(v) and int(v) % 2 == 0, "an even number"),
+    "odd": (lambda v: v == int(v) and int(v) % 2 == 1, "an odd number"),
+}
+# What the elements need of their constant attributes: (type, attribute) -> rule.
+_ROLES = {
+    (Link, "m"): ("nonnegative", "masses and inertias must not be negative"),
+    (Link, "J"): ("nonnegative", "masses and inertias must not be negative"),
+    (Spring, "k"): ("nonnegative", "a stiffness must not be negative"),
+    (Damper, "c"): ("nonnegative", "a damping coefficient must not be negative"),
+    (Friction, "moment"): ("nonnegative", "a friction magnitude must not be negative"),
+    (Friction, "peak"): ("peak", "static friction is never below sliding friction"),
+    (OneWayClutch, "release"): ("nonnegative", "a release moment must not be negative"),
+    (Stop, "restitution"): ("fraction", "a coefficient of restitution lies in [0, 1]"),
+    (LossyGear, "eta_forward"): ("efficiency", "an efficiency must lie in (0, 1]"),
+    (LossyGear, "bearing_forward"): ("nonnegative", "a bearing moment must not be negative"),
+    (LossyGear, "bearing_backward"): ("nonnegative", "a bearing moment must not be negative"),
+    (Load, "efficiency"): ("efficiency", "an efficiency must lie in (0, 1]"),
+}
+_FAULTS = {       # rule -> (test, how a value breaks it)
+    "efficiency": (lambda v: 0 < v <= 1, "lies outside (0, 1]"),
+    "fraction": (lambda v: 0 <= v <= 1, "lies outside [0, 1]"),
+    "peak": (lambda v: v >= 1, "is below 1"),
+    "nonnegative": (lambda v: v >= 0, "is negative"),
+}
+
+
+def check_values(facts, numbers, symbols_named):
+    """Refuse the first value of ``numbers`` (name -> float) that breaks a declared
+    assumption of its symbols (``symbols_named(name)``) or an element's rule."""
+    for name, value in numbers.items():
+        for symbol in symbols_named(name):
+            for fact in _true_facts(symbol):
+                holds, needed = _FACTS[fact]
+                if not holds(value):
+                    raise ParameterError(
+                        f"parameter {name} = {value:g} {_violation(value, needed)}, but "
+                        f"{name} is declared {_declared(symbol, fact)}=True"
+                        f"{_used_by(facts, [name])}")
+    values = None
+    for label, attribute, expr, names, (rule, why) in facts.roles:
+        if not names <= numbers.keys():
+            continue
+        if expr.is_Symbol:
+            number = numbers[expr.name]
+        else:
+            values = values or {s: sp.Float(numbers[n]) for n, s in facts.symbols.items()
+                                if n in numbers}
+            number = _real(expr.xreplace(values))
+            if number is None:
+                raise ParameterError(f"parameter {', '.join(sorted(names))}: {label}: "
+                                     f"{attribute} = {expr} is not a finite real number "
+                                     f"with {_values_text(names, numbers)}")
+        holds, breaks = _FAULTS[rule]
+        fault = None if holds(number) else breaks
+        if fault:
+            where = "" if expr.is_Symbol else f" = {number:.6g}"
+            raise ParameterError(
+                f"parameter {', '.join(sorted(names))}: {label}: {attribute} = {expr}"
+                f"{where} {fault} with {_values_text(names, numbers)}; {why}")
+
+
+def _used_by(facts, names) -> str:
+    users = sorted({user for name in names for user in facts.usage.get(name, ())})
+    return f" (used by {', '.join(users)})" if users else ""
+
+
+class MechanismFacts:
+    """What a mechanism says about its parameters: symbols by name, the elements using
+    each, and the element attributes with a sign rule."""
+
+    def __init__(self, mechanism=None):
+        self.symbols, self.usage, self.roles = {}, {}, []
+        if mechanism is None:
+            return
+        for element in mechanism.elements.values():
+            label = f"{type(element).__name__.lower()} {element.name!r}"
+            for attribute, expr in element.expressions().items():
+                free = expr.free_symbols - {t}
+                for symbol in free:
+                    other = self.symbols.setdefault(symbol.name, symbol)
+                    if other != symbol:
+                        raise DeclarationError(
+                            f"{mechanism.name!r}: two different parameters are named "
+                            f"{symbol.name!r} (their assumptions differ: "
+                            f"{_assumption_text(other)} and {_assumption_text(symbol)}); "
+                            "declare each parameter once and reuse its symbol")
+                    self.usage.setdefault(symbol.name, set()).add(label)
+                rule = next((_ROLES[(cls, attribute)] for cls in type(element).__mro__
+                             if (cls, attribute) in _ROLES), None)
+                if rule and free and not expr.has(AppliedUndef, sp.Derivative, t):
+                    self.roles.append((label, attribute, expr, {s.name for s in free}, rule))
+
+
+_facts_cache: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def facts_of(mechanism) -> MechanismFacts:
+    """The mechanism's :class:`MechanismFacts`, remembered while its elements stay the
+    same."""
+    signature = tuple(map(id, mechanism.elements.values()))
+    cached = _facts_cache.get(mechanism)
+    if cached is None or cached[0] != signature:
+        cached = (signature, MechanismFacts(mechanism))
+        _facts_cache[mechanism] = cached
+    return cached[1]
+
+
+@functools.lru_cache(maxsize=4096)
+def _true_facts(symbol) -> tuple:
+    """The checked assumptions (see ``_FACTS``) that hold for ``symbol``."""
+    assumed = symbol.assumptions0
+    return tuple(fact for fact in _FACTS if assumed.get(fact))
+
+
+def scene_symbols(scene) -> set:
+    """The parameters of a scene's initial values, stop conditions and outputs."""
+    exprs = [v for v in scene.initial.values() if isinstance(v, sp.Basic)]
+    for condition in scene.until:
+        exprs += [condition.expression, condition.value]
+    exprs += [o for o in scene.outputs if isinstance(o, sp.Basic)]
+    return set().union(*(e.free_symbols for e in exprs)) - {t}
+
+
+def _real(value):
+    """A sympy number as a float, or None if it is not finite and real."""
+    try:
+        number = complex(value)
+    except (TypeError, ValueError):
+        return None
+    if number.imag != 0 or not math.isfinite(number.real):
+        return None
+    return number.real
+
+
+# ----------------------------------------------------------------------- wording
+def _violation(value, needed) -> str:
+    if needed in ("positive", "zero or positive") and value < 0:
+        return "is negative"
+    if value == 0 and needed in ("positive", "negative", "non-zero"):
+        return "is zero"
+    return f"is not {needed}"
+
+
+def _declared(symbol, fact) -> str:
+    """The assumption as the user declared it (``positive`` for a positive symbol's
+    implied ``nonnegative``)."""
+    original = getattr(symbol, "_assumptions_orig", None) or {}
+    for given in original:
+        if original[given] and sp.Symbol("x", **{given: True}).assumptions0.get(fact):
+            return given
+    return fact
+
+
+def _assumption_text(symbol) -> str:
+    original = getattr(symbol, "_assumptions_orig", None) or {}
+    given = [f"{k}={v}" for k, v in original.items()]
+    return f"{symbol.name}({', '.join(given)})" if given else f"{symbol.name}()"
+
+
+def _values_text(names, values) -> str:
+    return ", ".join(f"{n} = {values[n]:g}" for n in sorted(names))

@@ -1,0 +1,73 @@
+"""Tables: piecewise-linear characteristics (friction against speed, efficiencies).
+
+``md.table(xs, ys)`` is a function of one argument; called with an expression it gives
+the piecewise-linear interpolation as a ``Piecewise`` (compiled like any other, its
+breakpoints located as switching events), extrapolated through the first two and the
+last two points, as MSL's ``CombiTable1D`` (``LinearSegments``, ``LastTwoPoints``).
+
+>>> import sympy as sp
+>>> mu = table([0, 1, 2], [0.5, 0.4, 0.35])
+>>> w = sp.Symbol("w")
+>>> mu(w)
+Piecewise((0.5 - 0.1*w, w < 1), (0.45 - 0.05*w, True))
+>>> mu(3), mu(-1)
+(0.300000000000000, 0.600000000000000)
+"""
+from __future__ import annotations
+
+import math
+
+import sympy as sp
+
+from mechdyn.declare.elements import as_expression
+from mechdyn.errors import DeclarationError
+
+__all__ = ["Table", "table"]
+
+
+class Table:
+    """A piecewise-linear function through the points ``(xs[i], ys[i])`` (``xs``
+    strictly increasing), extrapolated linearly beyond the ends."""
+
+    def __init__(self, xs, ys, name="table"):
+        xs, ys = list(xs), list(ys)
+        if len(xs) != len(ys) or len(xs) < 2:
+            raise DeclarationError(f"{name}: give two lists of equal length, at least two "
+                                   f"points (got {len(xs)} x and {len(ys)} y values)")
+        self.xs = [_number(x, f"{name}: x[{i}]") for i, x in enumerate(xs)]
+        self.ys = [as_expression(y, f"{name}: y[{i}]") for i, y in enumerate(ys)]
+        for i, (a, b) in enumerate(zip(self.xs, self.xs[1:])):
+            if not b > a:
+                raise DeclarationError(f"{name}: x values must increase strictly, but "
+                                       f"x[{i}] = {a} and x[{i + 1}] = {b}")
+        self.name = name
+
+    def __call__(self, x):
+        """The interpolation at ``x`` (a number or an expression)."""
+        x = as_expression(x, f"{self.name}: argument")
+        lines = [self._line(i, x) for i in range(len(self.xs) - 1)]
+        if len(lines) == 1:
+            return lines[0]
+        pieces = [(line, x < right) for line, right in zip(lines[:-1], self.xs[1:-1])]
+        return sp.Piecewise(*pieces, (lines[-1], True))
+
+    def _line(self, i, x):
+        x0, x1, y0, y1 = self.xs[i], self.xs[i + 1], self.ys[i], self.ys[i + 1]
+        slope = (y1 - y0) / (x1 - x0)
+        return sp.expand(y0 - slope * x0 + slope * x)
+
+    def __repr__(self):
+        return f"Table({self.xs}, {self.ys})"
+
+
+def table(xs, ys, name="table") -> Table:
+    """A piecewise-linear :class:`Table` through ``(xs[i], ys[i])``, extrapolated
+    through the first two and the last two points; call it with an expression."""
+    return Table(xs, ys, name)
+
+
+def _number(value, what):
+    expr = as_expression(value, what)
+    if not expr.is_number or not expr.is_real or not math.isfinite(float(expr)):
+        raise DeclarationError(f"{what}: {value!r} is not a finite real number")
+    return expr

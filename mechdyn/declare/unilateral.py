@@ -1,0 +1,152 @@
+"""Elements that act one way: a one-way clutch, a hard stop, a lossy gear.
+
+Like :class:`~mechdyn.declare.elements.Friction` they switch between modes at run time
+(:mod:`mechdyn.simulate.friction`): a one-way clutch locks or overruns, a stop is open or in
+contact (with impacts, :mod:`mechdyn.simulate.contacts`), a lossy gear slides or locks with a loss
+that depends on the direction of power flow (:mod:`mechdyn.declare.gear_loss`).
+
+>>> import mechdyn as md
+>>> x = md.coordinate("x")
+>>> Stop("end stops", along=x, lower=0, upper=1, restitution=0.5).limits
+((1, 0), (-1, 1))
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from mechdyn.declare.elements import Constraint, Element, Friction
+from mechdyn.errors import DeclarationError
+
+__all__ = ["OneWayClutch", "Stop", "LossyGear"]
+
+
+@dataclass(frozen=True)
+class OneWayClutch(Friction):
+    """A one-way clutch (freewheel with a friction clutch in parallel): ``along`` may
+    only increase. Sliding forward it brakes with ``moment`` (0: a freewheel overruns
+    freely); at rest it locks, holds any moment against backward motion, and releases
+    forward once the moment pushing forward exceeds ``peak * moment`` (or ``release``,
+    whichever is larger: MSL's small threshold of a disengaged clutch)."""
+    release: object = 0
+
+    def __post_init__(self):
+        super().__post_init__()
+        self._expr("release", nonnegative=True)
+
+    def expressions(self):
+        out = super().expressions()
+        if self.release != 0:
+            out["release"] = self.release
+        return out
+
+
+@dataclass(frozen=True)
+class Stop(Element):
+    """A hard stop on ``along``: ``lower <= along <= upper`` (either limit may be None).
+    Reaching a limit is an impact: the speed of ``along`` jumps to ``-restitution``
+    times its value (the impulse of least kinetic energy change); resting on a limit
+    the stop holds while it pushes, and lets go when the loads pull away."""
+    along: object = None
+    lower: object = None
+    upper: object = None
+    restitution: object = 0
+
+    def __post_init__(self):
+        super().__post_init__()
+        what = f"stop {self.name!r}"
+        if self.along is None:
+            raise DeclarationError(f"{what}: 'along' is required")
+        if self.lower is None and self.upper is None:
+            raise DeclarationError(f"{what}: give lower=, upper= or both")
+        self._expr("along")
+        for attribute in ("lower", "upper"):
+            if getattr(self, attribute) is not None:
+                self._expr(attribute)
+        self._expr("restitution")
+        e = self.restitution
+        if e.is_number and not 0 <= e <= 1:
+            raise DeclarationError(f"{what}: restitution = {_text(e)} must lie in [0, 1]")
+        if self.lower is not None and self.upper is not None:
+            width = self.upper - self.lower
+            if width.is_number and not width > 0:
+                raise DeclarationError(f"{what}: lower = {self.lower} must lie below "
+                                       f"upper = {self.upper}")
+
+    @property
+    def limits(self) -> tuple:
+        """``(side, limit)`` per limit: side +1 for the lower (the stop pushes along
+        +along), -1 for the upper."""
+        return tuple((side, limit) for side, limit in ((1, self.lower), (-1, self.upper))
+                     if limit is not None)
+
+    def expressions(self):
+        out = {"along": self.along, "restitution": self.restitution}
+        for attribute in ("lower", "upper"):
+            if getattr(self, attribute) is not None:
+                out[attribute] = getattr(self, attribute)
+        return out
+
+
+@dataclass(frozen=True)
+class LossyGear(Constraint):
+    """A gear pair ``input = ratio * output`` whose mesh loses power by the direction
+    of power flow (MSL ``LossyGear``): with ``tau`` the moment the input side passes
+    into the gear, turning forward the loss moment is ``(1 - eta_forward) tau +
+    bearing_forward`` while the input drives and ``(1 - 1/eta_backward) tau +
+    bearing_backward`` while the output drives (the larger of the two); mirrored
+    backward. ``eta_backward <= 0`` is a self-locking gear (a worm): the output can
+    never drive it. At rest it holds while the loss moment needed stays within that
+    law. The efficiencies and bearing moments may depend on the speeds."""
+    input: object = None
+    output: object = None
+    ratio: object = 1
+    eta_forward: object = 1
+    eta_backward: object = 1
+    bearing_forward: object = 0
+    bearing_backward: object = 0
+
+    _LAW = ("eta_forward", "eta_backward", "bearing_forward", "bearing_backward")
+
+    def __post_init__(self):
+        what = f"lossy gear {self.name!r}"
+        if self.input is None or self.output is None:
+            raise DeclarationError(f"{what}: give input= and output= (its two angles)")
+        object.__setattr__(self, "equations", ())
+        for attribute in ("input", "output", "ratio") + self._LAW:
+            self._expr(attribute)
+        if self.ratio.is_number and self.ratio == 0:
+            raise DeclarationError(f"{what}: ratio must not be zero")
+        eta = self.eta_forward
+        if eta.is_number and not 0 < eta <= 1:
+            raise DeclarationError(f"{what}: eta_forward = {_text(eta)} must lie in (0, 1]")
+        if self.eta_backward.is_number and not self.eta_backward <= 1:
+            raise DeclarationError(f"{what}: eta_backward = {_text(self.eta_backward)} must not "
+                                   "exceed 1 (0 or below: self-locking)")
+        for attribute in ("bearing_forward", "bearing_backward"):
+            value = getattr(self, attribute)
+            if value.is_negative:
+                raise DeclarationError(f"{what}: {attribute} = {value} must not be negative")
+        object.__setattr__(self, "equations", (self.input - self.ratio * self.output,))
+        super().__post_init__()
+
+    @property
+    def law(self) -> tuple:
+        """``(eta_forward, eta_backward, bearing_forward, bearing_backward)``."""
+        return tuple(getattr(self, attribute) for attribute in self._LAW)
+
+    def expressions(self):
+        out = super().expressions()
+        out.update({attribute: getattr(self, attribute) for attribute in self._LAW})
+        return out
+
+
+def limit_sides(stop: Stop) -> list:
+    """``(label, side, limit)`` of each limit of a stop: ``NAME.lower`` (side +1),
+    ``NAME.upper`` (side -1)."""
+    return [(f"{stop.name}.{'lower' if side > 0 else 'upper'}", side, limit)
+            for side, limit in stop.limits]
+
+
+def _text(number) -> str:
+    """A number as the user would write it (1.5, not 1.50000000000000)."""
+    return f"{float(number):g}"

@@ -1,0 +1,494 @@
+"""Derivation: energies and generalized forces -> Lagrange's equations of the 2nd kind.
+
+Produces ``M(q) q'' = f(q, q', t)`` in plain symbols (``phi``, ``phidot``, ``phiddot``).
+The mass matrix is never inverted symbolically. With ``T = u'M(q,t)u/2 + b(q,t)'u + T0``
+and momenta ``p = dT/du`` the i-th equation is
+
+    sum_j M_ij q''_j = Q_i + dT/dq_i - sum_k dp_i/dq_k u_k - dp_i/dt
+
+For one coordinate it also gives the reduced inertia ``I_red = M_11``, the reduced moment
+``M_red = Q`` and the textbook form ``I_red eps + I_red'/2 omega^2 = M_red``.
+
+>>> import sympy as sp, mechdyn as md
+>>> phi = md.coordinate("phi")
+>>> gear = md.Mechanism("disc", [phi])
+>>> _ = gear.link("disc", J=2, angle=phi)
+>>> _ = gear.load("drive", 6, along=phi)
+>>> gear.equations().eqs
+[Eq(2*phiddot, 6)]
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import sympy as sp
+
+from mechdyn.declare.elements import (Constraint, Damper, Friction, Gravity, Link, Load, Spring,
+                       is_structural)
+from mechdyn.errors import DerivationError
+from mechdyn.symbols import dotted_symbol, t
+from mechdyn.declare.unilateral import LossyGear, OneWayClutch, Stop, limit_sides
+
+__all__ = ["Equations", "FrictionTerm", "ContactTerm", "GearTerm", "ConstraintTerm", "derive"]
+
+
+@dataclass(frozen=True)
+class FrictionTerm:
+    """A Coulomb friction element in plain symbols: magnitude, the gradient of its
+    ``along`` expression, its sliding rate and the velocity-only part of its second
+    derivative (``s'' = gradient . q'' + bias``); ``kind`` "friction", "one_way" (a
+    one-way clutch: ``release`` its smallest breakaway moment) or "gear" (the mesh loss
+    of a lossy gear, along ``ratio * output``; its magnitude comes from the gear's law
+    at run time); ``peak`` the static factor."""
+    name: str
+    magnitude: sp.Expr
+    gradient: sp.Matrix
+    rate: sp.Expr
+    bias: sp.Expr
+    kind: str = "friction"
+    peak: sp.Expr = sp.S.One
+    release: sp.Expr = sp.S.Zero
+
+
+@dataclass(frozen=True)
+class ContactTerm:
+    """One limit of a hard stop in plain symbols: ``gap`` (``side * (along - limit)``,
+    non-negative while open), its gradient, rate and bias (as :class:`FrictionTerm`),
+    the ``restitution`` and the stop's ``element`` name; ``name`` is ``STOP.lower`` or
+    ``STOP.upper``."""
+    name: str
+    element: str
+    gap: sp.Expr
+    gradient: sp.Matrix
+    rate: sp.Expr
+    bias: sp.Expr
+    restitution: sp.Expr
+
+
+@dataclass(frozen=True)
+class GearTerm:
+    """A lossy gear: its mesh constraint's index in ``Equations.constraints``, its loss
+    element's index in ``Equations.frictions`` and its ``law`` ``(eta_forward,
+    eta_backward, bearing_forward, bearing_backward)`` in plain symbols."""
+    name: str
+    constraint: int
+    friction: int
+    law: tuple
+
+
+@dataclass(frozen=True)
+class ConstraintTerm:
+    """A scalar holonomic constraint ``g(q, t) = 0`` of a closed loop in plain symbols:
+    its ``expression`` g, its ``gradient`` dg/dq (a column over ``Equations.q``) and the
+    velocity and time part of its second derivative (``g'' = gradient . q'' + bias``).
+    With constraints the equations read ``M q'' = f + G' lambda``, ``G q'' = -bias``."""
+    name: str
+    expression: sp.Expr
+    gradient: sp.Matrix
+    bias: sp.Expr
+
+
+@dataclass
+class Equations:
+    """Lagrange's equations of a mechanism (or of a scene's selection of it).
+
+    Attributes: ``coordinates`` (functions of t), ``q``, ``u``, ``a`` (plain symbols of
+    coordinates, speeds, accelerations), ``mass_matrix`` and ``forcing`` (``M a = f``),
+    ``kinetic_energy``, ``potential_energy``, ``dissipation``, ``generalized_forces``
+    (element name -> column), ``powers`` (element name -> power), ``frictions``,
+    ``eliminated`` (coordinate -> expression, from rigid springs), ``elements`` (names
+    included), ``excluded`` (names left out), ``rigid`` (names made rigid),
+    ``constraints`` (the closed loops' :class:`ConstraintTerm` s: ``M a = f + G' lambda``
+    with ``G a = -bias``), ``independent`` (plain symbols of the independent coordinates),
+    ``contacts`` (the stops' limits, :class:`ContactTerm`), ``gears`` (:class:`GearTerm`).
+    """
+    name: str
+    coordinates: tuple
+    q: tuple
+    u: tuple
+    a: tuple
+    mass_matrix: sp.Matrix
+    inertial_forcing: sp.Matrix
+    kinetic_energy: sp.Expr
+    potential_energy: sp.Expr
+    dissipation: sp.Expr
+    generalized_forces: dict
+    powers: dict
+    frictions: tuple
+    eliminated: dict
+    elements: tuple
+    excluded: tuple
+    rigid: tuple
+    rheonomic: bool
+    links: dict = field(default_factory=dict)
+    to_plain: object = None
+    constraints: tuple = ()
+    independent: tuple = ()
+    contacts: tuple = ()
+    gears: tuple = ()
+
+    # --------------------------------------------------------------- the system
+    @property
+    def dof(self) -> int:
+        return len(self.q)
+
+    @property
+    def forcing(self) -> sp.Matrix:
+        """Right-hand side ``f``: generalized forces plus velocity-dependent inertia terms
+        (friction appears with ``sign`` of its sliding rate)."""
+        total = self.inertial_forcing
+        for column in self.generalized_forces.values():
+            total = total + column
+        return total
+
+    @property
+    def smooth_forcing(self) -> sp.Matrix:
+        """The forcing without the friction elements (they switch; see simulate)."""
+        friction_names = {fr.name for fr in self.frictions}
+        total = self.inertial_forcing
+        for name, column in self.generalized_forces.items():
+            if name not in friction_names:
+                total = total + column
+        return total
+
+    @property
+    def switching(self) -> tuple:
+        """Names of the elements whose modes switch at run time: frictions, one-way
+        clutches, lossy gears, stops."""
+        stops = [c.element for c in self.contacts]
+        return tuple(fr.name for fr in self.frictions) + tuple(dict.fromkeys(stops))
+
+    @property
+    def eqs(self) -> list:
+        """The equations as a list of ``sp.Eq(sum_j M_ij a_j, f_i)``."""
+        lhs = self.mass_matrix * sp.Matrix(self.a)
+        return [sp.Eq(lhs[i], self.forcing[i]) for i in range(self.dof)]
+
+    @property
+    def parameters(self) -> tuple:
+        """Symbols other than coordinates, speeds and time, sorted by name."""
+        exprs = [self.mass_matrix, self.forcing, self.kinetic_energy, self.potential_energy]
+        exprs += [fr.magnitude for fr in self.frictions]
+        known = set(self.q) | set(self.u) | {t}
+        free = set().union(*(e.free_symbols for e in exprs)) - known
+        return tuple(sorted(free, key=lambda s: s.name))
+
+    # ------------------------------------------------------------ one DOF only
+    def _one_dof(self, what):
+        if self.dof != 1:
+            names = ", ".join(str(q) for q in self.q)
+            raise DerivationError(
+                f"{what} is defined for one-DOF mechanisms; {self.name!r} has {self.dof} "
+                f"coordinates ({names}). Use equations() (mass matrix and forcing), or make "
+                "springs rigid in a scene to reduce it")
+        if self.rheonomic:
+            raise DerivationError(
+                f"{what}: positions of {self.name!r} depend explicitly on time t (an imposed "
+                "motion), so the textbook one-DOF form does not apply; use equations()")
+
+    @property
+    def reduced_inertia(self) -> sp.Expr:
+        """``I_red = sum m (v_S/omega)^2 + J (omega_i/omega)^2`` (= ``M_11``)."""
+        self._one_dof("reduced_inertia")
+        return self.mass_matrix[0, 0]
+
+    @property
+    def reduced_moment(self) -> sp.Expr:
+        """``M_red``: the generalized force of every load, spring, damper, gravity and
+        friction, reduced to the coordinate."""
+        self._one_dof("reduced_moment")
+        return sp.Add(*[column[0] for column in self.generalized_forces.values()])
+
+    @property
+    def textbook_equation(self) -> sp.Eq:
+        """``I_red eps + 1/2 dI_red/dphi omega^2 = M_red``."""
+        inertia = self.reduced_inertia
+        q, u, a = self.q[0], self.u[0], self.a[0]
+        return sp.Eq(inertia * a + sp.diff(inertia, q) / 2 * u**2, self.reduced_moment)
+
+    def _repr_latex_(self):
+        from mechdyn.derive.latex import equations_latex
+        return "$\\displaystyle " + equations_latex(self) + "$"
+
+
+# ----------------------------------------------------------------------- derivation
+def derive(mechanism, element_names=None, rigid=()) -> Equations:
+    """Form the equations of ``mechanism`` with the named elements (all if None) and
+    the springs in ``rigid`` (pairs ``(spring name, coordinate name or None)``) rigid."""
+    elements = mechanism.elements
+    if element_names is None:
+        element_names = tuple(n for n, e in elements.items() if not is_structural(e))
+    rigid_names = tuple(name for name, _ in rigid)
+    coords = list(mechanism.coordinates)
+    plain_of = {q: dotted_symbol(q.func.__name__, 0) for q in coords}
+    speed_of = {sp.Derivative(q, t): dotted_symbol(q.func.__name__, 1) for q in coords}
+
+    def plain(expr):
+        return expr.xreplace(speed_of).xreplace(plain_of)
+
+    eliminated = _eliminate(mechanism, rigid, plain, coords)
+    kept = [q for q in coords if q not in eliminated]
+    q = tuple(plain_of[c] for c in kept)
+    u = tuple(dotted_symbol(c.func.__name__, 1) for c in kept)
+    a = tuple(dotted_symbol(c.func.__name__, 2) for c in kept)
+    position_subs, speed_subs = _substitutions(eliminated, plain_of, q, u)
+
+    def to_plain(expr):
+        return plain(expr).xreplace(speed_subs).xreplace(position_subs)
+
+    def rate(expr, grad=None):         # d expr/dt; pass grad if it is already known
+        if grad is None:
+            present = expr.free_symbols
+            grad = [_diff(expr, qi) if qi in present else sp.S.Zero for qi in q]
+        return sp.Add(*[g * ui for g, ui in zip(grad, u) if g != 0], _diff(expr, t))
+
+    def gradient(expr):
+        return sp.Matrix([_diff(expr, qi) for qi in q])
+
+    def scaled(factor, column):        # factor * column, skipping the zero entries
+        return column.applyfunc(lambda entry: factor * entry if entry != 0 else entry)
+
+    links = {n: e for n, e in elements.items() if isinstance(e, Link)}
+    kinetic, potential, dissipation = sp.S.Zero, sp.S.Zero, sp.S.Zero
+    link_plain = {}
+    for name, link in links.items():
+        x, y, angle = (to_plain(link.x), to_plain(link.y), to_plain(link.angle))
+        link_plain[name] = (link.m, link.J, x, y, angle)
+        kinetic += link.m * (rate(x) ** 2 + rate(y) ** 2) / 2 + link.J * rate(angle) ** 2 / 2
+    rheonomic = any(t in e.free_symbols for (_, _, *pos) in link_plain.values() for e in pos)
+
+    def moving(expr):                  # gradient, rate and bias of an expression
+        grad = gradient(expr)
+        slide = rate(expr, grad)
+        bias = sum((_diff(slide, qi) * ui for qi, ui in zip(q, u)), sp.S.Zero) \
+            + _diff(slide, t)
+        return grad, slide, bias
+
+    forces, powers, frictions, contacts = {}, {}, [], []
+    zero = sp.zeros(len(q), 1)
+    for name in element_names:
+        element = elements[name]
+        if name in rigid_names:
+            continue
+        if isinstance(element, Load):
+            along = to_plain(element.along)
+            value = to_plain(element.value)
+            if element.efficiency is not None:
+                value = value * _efficiency_factor(value * rate(along), element.efficiency)
+            column = scaled(value, gradient(along))
+        elif isinstance(element, Spring):
+            stretch = to_plain(element.stretch)
+            k = to_plain(element.k)
+            potential += k * stretch ** 2 / 2
+            column = scaled(-k * stretch, gradient(stretch))
+        elif isinstance(element, Damper):
+            stretch = to_plain(element.stretch)
+            c = to_plain(element.c)
+            grad = gradient(stretch)
+            stretch_rate = rate(stretch, grad)
+            dissipation += c * stretch_rate ** 2 / 2
+            column = scaled(-c * stretch_rate, grad)
+        elif isinstance(element, Gravity):
+            column = zero
+            for (m, _, _, y, _) in link_plain.values():
+                potential += m * element.g * y
+                column = column - m * element.g * gradient(y)
+        elif isinstance(element, Friction):
+            along = to_plain(element.along)
+            magnitude = to_plain(element.moment)
+            grad, slide, bias = moving(along)
+            one_way = isinstance(element, OneWayClutch)
+            frictions.append(FrictionTerm(
+                name, magnitude, grad, slide, bias, "one_way" if one_way else "friction",
+                to_plain(element.peak), to_plain(element.release) if one_way else sp.S.Zero))
+            column = -magnitude * (sp.Heaviside(slide) if one_way else sp.sign(slide)) * grad
+        elif isinstance(element, Stop):
+            along = to_plain(element.along)
+            grad, slide, bias = moving(along)
+            for label, side, limit in limit_sides(element):
+                contacts.append(ContactTerm(label, name, side * (along - to_plain(limit)),
+                                            side * grad, side * slide, side * bias,
+                                            to_plain(element.restitution)))
+            column = zero
+        else:  # pragma: no cover - every element type is handled above
+            raise TypeError(type(element))
+        forces[name] = column
+        powers[name] = sp.Add(*[column[i] * u[i] for i in range(len(q)) if column[i] != 0])
+
+    constraints = _constraint_terms(mechanism, to_plain, gradient, rate, q, u)
+    gears = []
+    for index, constraint in enumerate(constraints):
+        gear = elements[constraint.name] if constraint.name in elements else None
+        if isinstance(gear, LossyGear):
+            grad, slide, bias = moving(to_plain(gear.ratio * gear.output))
+            gears.append(GearTerm(gear.name, index, len(frictions),
+                                  tuple(to_plain(value) for value in gear.law)))
+            frictions.append(FrictionTerm(gear.name, sp.S.Zero, grad, slide, bias, "gear"))
+    constrained = {qi for c in constraints for qi, g in zip(q, c.gradient) if g != 0}
+    mass, inertial = _lagrange(kinetic, q, u)
+    for i, qi in enumerate(q):
+        if mass[i, i] == 0 and qi not in constrained:
+            raise DerivationError(
+                f"mechanism {mechanism.name!r}: no inertia in coordinate {qi}: no link's "
+                "mass or moment of inertia moves with it (give a link m or J that moves "
+                "with it, or make its spring rigid in the scene)")
+    if not constraints:     # with loops M need only be regular on the loops' motions
+        _check_regular(mass, q, mechanism.name)
+    excluded = tuple(n for n, e in elements.items()
+                     if not is_structural(e) and n not in element_names)
+    return Equations(
+        name=mechanism.name, coordinates=tuple(kept), q=q, u=u, a=a,
+        mass_matrix=mass, inertial_forcing=inertial, kinetic_energy=kinetic,
+        potential_energy=potential, dissipation=dissipation, generalized_forces=forces,
+        powers=powers, frictions=tuple(frictions),
+        eliminated={c: expr for c, expr in eliminated.items()},
+        elements=tuple(n for n in element_names if n not in rigid_names),
+        excluded=excluded, rigid=rigid_names, rheonomic=rheonomic, links=link_plain,
+        to_plain=to_plain, constraints=constraints,
+        independent=tuple(plain_of[c] for c in mechanism.independent if c in kept),
+        contacts=tuple(contacts), gears=tuple(gears))
+
+
+def _constraint_terms(mechanism, to_plain, gradient, rate, q, u) -> tuple:
+    """The scalar constraints of the mechanism's loops, with gradients and biases."""
+    terms = []
+    for element in mechanism.elements.values():
+        if not isinstance(element, Constraint):
+            continue
+        for label, g in zip(element.labels, element.equations):
+            expr = to_plain(g)
+            grad = gradient(expr)
+            if all(entry == 0 for entry in grad):
+                raise DerivationError(
+                    f"constraint {label} = {g} does not depend on the coordinates "
+                    f"{', '.join(map(str, q))} (after rigid springs are eliminated)")
+            speed = rate(expr, grad)
+            bias = sp.Add(*[_diff(speed, qi) * ui for qi, ui in zip(q, u)],
+                          _diff(speed, t))
+            terms.append(ConstraintTerm(label, expr, grad, bias))
+    return tuple(terms)
+
+
+def _lagrange(kinetic, q, u):
+    """Mass matrix and velocity-dependent inertia forcing from the kinetic energy.
+
+    With ``T = u'M u/2 + b'u + T0`` (``b``, ``T0`` nonzero only for imposed motions):
+    ``f_i = -sum_jk G_ijk u_j u_k - sum_j dM_ij/dt u_j + sum_k (db_k/dq_i - db_i/dq_k) u_k
+    - db_i/dt + dT0/dq_i`` with the Christoffel symbols
+    ``G_ijk = (dM_ij/dq_k + dM_ik/dq_j - dM_jk/dq_i) / 2``: the textbook ``-I'/2 omega^2``
+    for one coordinate, every derivative of ``M`` taken once.
+    """
+    n = len(q)
+    at_rest = {ui: sp.S.Zero for ui in u}
+    momenta = [_diff(kinetic, ui) for ui in u]
+    mass = sp.Matrix(n, n, lambda i, j: _diff(momenta[i], u[j]))
+    b = [m.xreplace(at_rest) for m in momenta]
+    base = kinetic.xreplace(at_rest)
+    # Only entries of M that hold q_k have a slope along it (a chain's M holds none).
+    slopes = {(i, j, k): _diff(mass[i, j], q[k])
+              for i in range(n) for j in range(n) if mass[i, j].free_symbols
+              for k in range(n) if q[k] in mass[i, j].free_symbols}
+    zero = sp.S.Zero
+    inertial = sp.zeros(n, 1)
+    for i in range(n):
+        terms = []
+        for j in range(n):
+            for k in range(j, n):
+                parts = (slopes.get((i, j, k), zero), slopes.get((i, k, j), zero),
+                         slopes.get((j, k, i), zero))
+                if all(part is zero for part in parts):
+                    continue
+                christoffel = (parts[0] + parts[1] - parts[2]) / 2
+                terms.append(-christoffel * u[j] * u[k] * (1 if j == k else 2))
+            terms.append(-_diff(mass[i, j], t) * u[j])
+            terms.append((_diff(b[j], q[i]) - _diff(b[i], q[j])) * u[j])
+        terms += [-_diff(b[i], t), _diff(base, q[i])]
+        inertial[i] = sp.Add(*[term for term in terms if term is not zero])
+    return mass, inertial
+
+
+def _diff(expr, x):
+    """``d expr / d x`` for a plain symbol ``x``: zero at once when ``expr`` does not
+    contain it, and term by term over the terms of a sum that contain it (sympy's diff
+    costs about as much for a zero as for a term, and a chain of N bodies asks for N^2
+    of them)."""
+    if x not in expr.free_symbols:
+        return sp.S.Zero
+    if expr.is_Add:      # a sum of many terms (an energy): only the terms that hold x
+        return sp.Add(*[sp.diff(term, x) for term in expr.args if x in term.free_symbols])
+    return sp.diff(expr, x)
+
+
+def _check_regular(mass, q, name):
+    """Refuse a mass matrix that is singular everywhere (a combination of coordinates
+    that moves no inertia), tested at two random configurations."""
+    n = mass.shape[0]
+    if n < 2:
+        return
+    rng = np.random.default_rng(12345)
+    free = sorted(mass.free_symbols, key=str)
+    smallest = []
+    for _ in range(2):
+        values = {s: sp.Float(rng.uniform(-3, 3) if s in q else rng.uniform(0.5, 1.5))
+                  for s in free}
+        numeric = np.array([[float(mass[i, j].xreplace(values)) if mass[i, j] != 0 else 0.0
+                             for j in range(n)] for i in range(n)])
+        _, singular, vt = np.linalg.svd(numeric)
+        smallest.append((singular[-1] / max(singular[0], 1e-300), vt[-1]))
+    if all(ratio < 1e-12 for ratio, _ in smallest):
+        vector = smallest[0][1] / np.max(np.abs(smallest[0][1]))
+        combination = " + ".join(f"{c:.3g}*{qi}" for c, qi in zip(vector, q) if abs(c) > 1e-9)
+        raise DerivationError(
+            f"mechanism {name!r}: the mass matrix is singular: the motion "
+            f"{combination} moves no mass or inertia (coordinates that always move "
+            "together need one coordinate, or a link that moves with the difference)")
+
+
+def _efficiency_factor(power, eta):
+    """1/eta while the load draws power from the drive, eta while it feeds power back."""
+    return sp.Piecewise((eta, power > 0), (1 / eta, True))
+
+
+def _eliminate(mechanism, rigid, plain, coords):
+    """Solve each rigid spring's ``stretch = 0`` for one coordinate (time functions)."""
+    eliminated = {}
+    by_name = {q.func.__name__: q for q in coords}
+    for spring_name, coordinate_name in rigid:
+        spring = mechanism.elements[spring_name]
+        stretch = spring.stretch.subs(eliminated)
+        present = [q for q in coords if q not in eliminated and stretch.has(q)]
+        if coordinate_name is not None:
+            if coordinate_name not in by_name:
+                raise DerivationError(f"rigid {spring_name!r}: {coordinate_name!r} is not a "
+                                      f"coordinate of {mechanism.name!r}")
+            candidates = [by_name[coordinate_name]]
+        else:
+            candidates = list(reversed(present))   # eliminate the last-declared first
+        solution = None
+        for q in candidates:
+            roots = sp.solve(sp.Eq(stretch, 0), q) if stretch.has(q) else []
+            if len(roots) == 1:
+                solution = (q, roots[0])
+                break
+        if solution is None:
+            tried = ", ".join(c.func.__name__ for c in candidates) or "none"
+            raise DerivationError(
+                f"rigid {spring_name!r}: cannot solve stretch = {spring.stretch} = 0 for a "
+                f"unique coordinate (tried: {tried}); rigid springs need a stretch that "
+                "fixes one coordinate through the others")
+        q, expr = solution
+        eliminated = {c: e.subs(q, expr) for c, e in eliminated.items()}
+        eliminated[q] = expr
+    return eliminated
+
+
+def _substitutions(eliminated, plain_of, q, u):
+    """Plain-symbol substitutions for eliminated coordinates and their speeds."""
+    position_subs, speed_subs = {}, {}
+    for c, expr in eliminated.items():
+        g = expr.xreplace(plain_of)
+        position_subs[plain_of[c]] = g
+        speed_subs[dotted_symbol(c.func.__name__, 1)] = (
+            sum((sp.diff(g, qi) * ui for qi, ui in zip(q, u)), sp.S.Zero) + sp.diff(g, t))
+    return position_subs, speed_subs

@@ -1,0 +1,215 @@
+"""Printing of the derivation: energies, forces, reduced quantities, equations.
+
+Time derivatives print with dots, Greek names as Greek letters, ``J_1A`` as ``J_{1A}``.
+
+>>> import mechdyn as md
+>>> phi = md.coordinate("phi")
+>>> disc = md.Mechanism("disc", [phi])
+>>> _ = disc.link("disc", J=2, angle=phi)
+>>> _ = disc.load("drive", 6, along=phi)
+>>> print(disc.latex().splitlines()[2])
+T &= \\dot{\\phi}^{2} \\\\
+"""
+from __future__ import annotations
+
+import sympy as sp
+from sympy.core.function import AppliedUndef
+
+from mechdyn.symbols import dotted_symbol
+
+__all__ = ["derivation_latex", "derivation_text", "equations_latex", "derivation_steps",
+           "coupling_steps", "presentable", "readable"]
+
+_SIMPLIFY_LIMIT = 120      # operations; larger expressions are printed as derived
+
+
+def tidy(expr):
+    """A readable form: simplified when small, as derived when large (speed)."""
+    if isinstance(expr, sp.MatrixBase):
+        return expr.applyfunc(tidy)
+    if isinstance(expr, sp.Eq):
+        return sp.Eq(tidy(expr.lhs), tidy(expr.rhs))
+    if sp.count_ops(expr) > _SIMPLIFY_LIMIT:
+        return expr
+    simpler = sp.simplify(expr)
+    return simpler if sp.count_ops(simpler) <= sp.count_ops(expr) else expr
+
+
+def derivation_steps(eqs) -> list:
+    """The derivation as ``(label, left side LaTeX, left side text, right side)``."""
+    steps = []
+    for c, expr in eqs.eliminated.items():
+        plain = expr.xreplace({q: sp.Symbol(q.func.__name__)
+                               for q in expr.atoms(AppliedUndef)})
+        name = c.func.__name__
+        steps.append(("rigid", sp.latex(sp.Symbol(name)), name, plain))
+    steps.append(("kinetic energy", "T", "T", tidy(eqs.kinetic_energy)))
+    if eqs.potential_energy != 0:
+        steps.append(("potential energy", "V", "V", tidy(eqs.potential_energy)))
+    if eqs.dissipation != 0:
+        steps.append(("dissipation", "D", "D", tidy(eqs.dissipation)))
+    for name, column in eqs.generalized_forces.items():
+        for qi, entry in zip(eqs.q, column):
+            if entry != 0:
+                label = f"Q_{{\\text{{{name}}}, {sp.latex(qi)}}}" if eqs.dof > 1 else \
+                    f"Q_{{\\text{{{name}}}}}"
+                steps.append(("generalized force", label, f"Q[{name}, {qi}]", tidy(entry)))
+    steps += coupling_steps(eqs)
+    if eqs.constraints:
+        steps += _loop_steps(eqs)
+        return steps
+    if eqs.dof == 1 and not eqs.rheonomic:
+        inertia = tidy(eqs.reduced_inertia)
+        steps.append(("reduced inertia", "I_{\\mathrm{red}}", "I_red", inertia))
+        steps.append(("reduced moment", "M_{\\mathrm{red}}", "M_red", tidy(eqs.reduced_moment)))
+        q, u, a = eqs.q[0], eqs.u[0], eqs.a[0]
+        textbook = ("I_{\\mathrm{red}} " + sp.latex(a) + " + \\frac{1}{2} \\frac{d I_{\\mathrm{red}}}"
+                    "{d " + sp.latex(q) + "} " + sp.latex(u) + "^{2}")
+        steps.append(("textbook form", textbook, f"I_red*{a} + 1/2*dI_red/d{q}*{u}**2",
+                      sp.Symbol("M_red")))
+        lhs = inertia * a + tidy(sp.diff(inertia, q) / 2) * u ** 2
+        steps.append(("equation of motion", sp.latex(lhs), str(lhs), eqs.textbook_equation.rhs))
+    else:
+        mass = eqs.mass_matrix.applyfunc(tidy)
+        forcing = eqs.forcing.applyfunc(tidy)
+        for i in range(eqs.dof):
+            lhs = sum((mass[i, j] * eqs.a[j] for j in range(eqs.dof)), sp.S.Zero)
+            steps.append(("equation of motion", sp.latex(lhs), str(lhs), forcing[i]))
+    return steps
+
+
+def coupling_steps(eqs) -> list:
+    """The laws of the elements that switch: static limits of frictions and one-way
+    clutches (``lambda^max``), the one-way condition, the stops' gaps and impact law, a
+    lossy gear's loss moment as a function of its mesh moment ``tau``."""
+    steps = []
+    for fr in eqs.frictions:
+        name = f"\\text{{{fr.name}}}"
+        if fr.kind == "one_way":
+            steps.append(("one-way", f"\\dot{{s}}_{{{name}}}", f"ds[{fr.name}]/dt",
+                          sp.Ge(fr.rate, 0)))
+        at_rest = {sp.Abs(fr.rate): 0, sp.Abs(-fr.rate): 0}
+        limit = fr.peak * fr.magnitude.xreplace(at_rest)
+        if fr.kind == "one_way" and fr.release != 0:
+            limit = sp.Max(limit, fr.release)
+        if fr.kind != "gear" and (fr.peak != 1 or fr.kind == "one_way"):
+            steps.append(("static limit", f"\\lambda^{{\\max}}_{{{name}}}",
+                          f"lambda_max[{fr.name}]", tidy(limit)))
+    for contact in eqs.contacts:
+        name = f"\\text{{{contact.name}}}"
+        steps.append(("stop", f"g_{{{name}}}", f"g[{contact.name}]", sp.Ge(contact.gap, 0)))
+        steps.append(("impact", f"\\dot{{g}}^{{+}}_{{{name}}}", f"dg+[{contact.name}]/dt",
+                      -contact.restitution * dotted_symbol("g", 1)))   # g' before
+    for gear in eqs.gears:
+        tau = sp.Symbol(f"tau_{gear.name}")
+        eta_forward, eta_backward, bearing_forward, bearing_backward = gear.law
+        loss = (1 - eta_forward) * tau + bearing_forward
+        if not (eta_backward.is_number and eta_backward <= 0):
+            loss = sp.Max(loss, (1 - 1 / eta_backward) * tau + bearing_backward)
+        name = f"\\text{{{gear.name}}}"
+        steps.append(("mesh loss", f"\\tau_{{\\mathrm{{loss}}, {name}}}",
+                      f"tau_loss[{gear.name}]", loss))
+        friction = eqs.frictions[gear.friction]
+        for qi, entry in zip(eqs.q, friction.gradient):
+            if entry != 0:
+                steps.append(("generalized force", f"Q_{{{name}, {sp.latex(qi)}}}",
+                              f"Q[{gear.name}, {qi}]",
+                              -entry * sp.Symbol(f"tau_loss_{gear.name}")))
+    return steps
+
+
+def derivation_latex(eqs) -> str:
+    """The derivation as an ``align*`` block, a line per step."""
+    lines = [f"% mechdyn: {eqs.name}" + (f" (without {', '.join(eqs.excluded)})"
+                                         if eqs.excluded else ""),
+             "\\begin{align*}"]
+    for _, lhs, _, rhs in derivation_steps(eqs):
+        rhs_latex = "M_{\\mathrm{red}}" if rhs == sp.Symbol("M_red") else sp.latex(rhs)
+        lines.append(f"{lhs} &= {rhs_latex}")
+    lines = lines[:2] + [line + " \\\\" for line in lines[2:-1]] + lines[-1:]
+    lines.append("\\end{align*}")
+    return "\n".join(lines)
+
+
+def derivation_text(eqs) -> str:
+    """The derivation as plain text, a labelled line per step."""
+    lines = [f"{eqs.name}: coordinates {', '.join(str(q) for q in eqs.q)}"]
+    if eqs.excluded:
+        lines.append(f"  left out: {', '.join(eqs.excluded)}")
+    for label, _, lhs, rhs in derivation_steps(eqs):
+        lines.append(f"  {label + ':':20s} {lhs} = {sp.sstr(rhs)}")
+    return "\n".join(lines)
+
+
+def equations_latex(eqs) -> str:
+    """The equations of motion alone, one per line."""
+    rows = [f"{sp.latex(tidy(e.lhs))} = {sp.latex(tidy(e.rhs))}" for e in eqs.eqs]
+    return " \\\\ ".join(rows) if len(rows) == 1 else \
+        "\\begin{aligned}" + " \\\\ ".join(r.replace(" = ", " &= ", 1) for r in rows) + \
+        "\\end{aligned}"
+
+
+_READABLE_OPS, _READABLE_DIGITS = 16, 6
+
+
+def readable(number) -> bool:
+    """An exact number a person reads at a glance: few operations, no long integers,
+    nothing imaginary."""
+    return (not number.has(sp.I) and sp.count_ops(number) <= _READABLE_OPS
+            and all(abs(r.p) < 10 ** _READABLE_DIGITS and r.q < 10 ** _READABLE_DIGITS
+                    for r in number.atoms(sp.Rational)))
+
+
+def presentable(expr, digits=12):
+    """``expr`` written for reading: numeric parts that are not readable at a glance
+    (long rationals from decimal parameters, nested roots) become decimals of
+    ``digits`` significant digits; symbols, functions and readable numbers stay.
+
+    >>> import sympy as sp
+    >>> w = sp.Symbol("w")
+    >>> presentable(sp.Rational(105664062500000, 5543626589101) * sp.log(w) + sp.Rational(1, 2))
+    19.0604581318*log(w) + 1/2
+    """
+    expr = sp.sympify(expr)
+    if not expr.args:
+        return expr if not expr.is_Rational or readable(expr) else sp.Float(expr, digits)
+    if expr.is_number:
+        return expr if readable(expr) else sp.Float(expr.evalf(digits + 3), digits)
+    if isinstance(expr, (sp.Mul, sp.Add)):          # the numeric part as one number
+        numeric = expr.func(*[a for a in expr.args if a.is_number])
+        rest = [presentable(a, digits) for a in expr.args if not a.is_number]
+        return expr.func(presentable(numeric, digits), *rest)
+    if isinstance(expr, sp.Integral):
+        return sp.Integral(presentable(expr.function, digits), *expr.limits)
+    return expr.func(*[presentable(a, digits) for a in expr.args])
+
+
+def _loop_steps(eqs) -> list:
+    """Closed loops: the constraints, the equations of motion with the constraint forces
+    ``G' lambda``, and for one-DOF linkages the transmission functions, I_red and M_red
+    (in the first-order transmission functions ``theta_2'``)."""
+    from mechdyn.derive import transmission
+    steps = []
+    multipliers = [sp.Symbol(f"lambda_{k + 1}") for k in range(len(eqs.constraints))]
+    for c, lam in zip(eqs.constraints, multipliers):
+        steps.append((f"loop closure ({lam})", f"0 = g_{{\\text{{{c.name}}}}}",
+                      f"0 = g[{c.name}]", c.expression))
+    mass, forcing = eqs.mass_matrix, eqs.forcing      # as derived (simplify is slow here)
+    for i in range(eqs.dof):
+        lhs = sum((mass[i, j] * eqs.a[j] for j in range(eqs.dof)), sp.S.Zero)
+        pull = sum((c.gradient[i] * lam for c, lam in zip(eqs.constraints, multipliers)),
+                   sp.S.Zero)
+        steps.append(("equation of motion", sp.latex(lhs), str(lhs), forcing[i] + pull))
+    if len(eqs.independent) != 1 or eqs.rheonomic:
+        return steps
+    crank = eqs.independent[0]
+    for order, table in ((1, transmission.ratios(eqs)), (2, transmission.second_ratios(eqs))):
+        for q, expr in table.items():
+            symbol = transmission.ratio_symbol(q, order)
+            text = f"d{'' if order == 1 else '2'}{q}/d{crank}{'' if order == 1 else '2'}"
+            steps.append(("transmission function", sp.latex(symbol), text, expr))
+    steps.append(("reduced inertia", "I_{\\mathrm{red}}", "I_red",
+                  transmission.reduced_inertia_in_ratios(eqs)))
+    steps.append(("reduced moment", "M_{\\mathrm{red}}", "M_red",
+                  transmission.reduced_moment(eqs)))
+    return steps

@@ -1,0 +1,237 @@
+"""Method choice: which integrator a segment takes, when to change it, what to try next.
+
+``method="auto"`` decides from measurements of the problem, never once for all:
+
+- **At the start of every segment** (the run's start and after every event: a friction
+  mode change, a switch of a ``Piecewise``) the eigenvalues of the analytic Jacobian are
+  measured against the run's slowest time scale (:func:`choose_method`): damped fast
+  modes are stiff; undamped fast modes are real oscillations, resolved by the explicit
+  method at tight tolerances and stepped over by the stiff one at loose tolerances.
+- **During a segment** a :class:`StiffnessMonitor` compares ``h rho(J)`` with the
+  explicit method's stability limit every few steps: an explicit method held at 70 % of
+  its limit is switched to the stiff method; a stiff method whose steps stay within
+  reach of the explicit one (``h rho < 1``) for many checks is switched back. The gap
+  between the two thresholds keeps the switches from ping-ponging.
+- **The stiff method is Radau** (L-stable, order 5: lightly damped fast modes, whose
+  eigenvalues lie close to the imaginary axis, defeat the BDF orders 3-5 of LSODA and
+  BDF, measured 77,000-176,000 steps where Radau takes 3,300). Its Newton iteration is
+  fragile at very tight tolerances (501,227 steps on one CPU where another took 550, at
+  rtol 1e-10), so stiff segments run at ``rtol >= STIFF_RTOL_FLOOR``; Radau's order
+  keeps their error well below that (``benchmarks/hard_case_matrix.py``).
+- **A failure is retried** from the last accepted state with the next method of
+  :func:`fallbacks` before anything is reported.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["choose_method", "explicit_for", "stiff_for", "STIFF", "StiffnessMonitor",
+           "fallbacks", "STABILITY_LIMIT", "STIFF_RTOL_FLOOR", "segment_tolerances",
+           "motion_jacobian", "backend_plan", "BackendPlan", "BACKENDS", "KERNEL_ONLY"]
+
+STIFF = "Radau"
+STIFF_RTOL_FLOOR = 1e-8
+BACKENDS = ("auto", "scipy", "compiled")
+COMPARED = ("RK45", "DOP853", "LSODA", "Radau", "BDF")     # a precision report's methods
+COMPARED_RTOLS = (1e-4, 1e-6, 1e-8, 1e-10)                # ... and tolerances
+KERNEL_ONLY = ("Rodas5P",)                 # methods only the compiled kernels have
+_KERNEL = ("DOP853", "Rodas5P")            # methods the compiled kernels have
+_STIFFNESS_LIMIT = 2000.0   # explicit steps forced by stability alone before it is stiff
+# Where the stability region of each explicit method crosses the negative real axis.
+STABILITY_LIMIT = {"DOP853": 6.0, "RK45": 3.3, "RK23": 2.5}
+
+
+def explicit_for(rtol) -> str:
+    """DOP853 at tight tolerances, RK45 at loose ones (fewer stages per step)."""
+    return "DOP853" if rtol < 1e-6 else "RK45"
+
+
+def stiff_for(backend) -> str:
+    """The stiff method of a backend: Radau on scipy, Rodas5P compiled."""
+    return "Rodas5P" if backend == "compiled" else STIFF
+
+
+def motion_jacobian(compiled, t, y, p):
+    """The Jacobian whose eigenvalues judge stiffness: the analytic one, or with closed
+    loops the linearised motion the loops allow (the full one has spurious eigenvalues
+    along the constraints: :func:`mechdyn.simulate.assembly.manifold_jacobian`)."""
+    if compiled.constraints:
+        from mechdyn.simulate.assembly import manifold_jacobian
+        return manifold_jacobian(compiled, t, y, p)
+    return compiled.jac(t, y, p)
+
+
+def choose_method(compiled, p, y0, t0, t_limit, rtol) -> tuple:
+    """``(method, why)`` for a segment starting at ``(t0, y0)``: the eigenvalues of the
+    analytic Jacobian there against the slowest time scale of the run.
+
+    - Damped fast modes (large negative real parts): stiff, once stability alone would
+      cost an explicit method more than ``_STIFFNESS_LIMIT`` steps.
+    - Undamped fast modes (large imaginary parts only) are real oscillations: at tight
+      tolerances they must be resolved, which the explicit method does; at rtol >= 1e-6
+      the stiff method steps over them.
+    - Otherwise the explicit method.
+
+    The slow scale is the smallest non-zero eigenvalue magnitude, or the run length when
+    the motion has a rigid-body (zero) mode.
+    """
+    explicit = explicit_for(rtol)
+    try:
+        jacobian = motion_jacobian(compiled, t0, y0, p)
+    except (ArithmeticError, ValueError, np.linalg.LinAlgError):
+        return explicit, "the Jacobian cannot be evaluated at the start"
+    if not np.all(np.isfinite(jacobian)):
+        return explicit, "the Jacobian is not finite at the start"
+    eigenvalues = np.linalg.eigvals(jacobian)
+    magnitude = np.abs(eigenvalues)
+    fastest = magnitude.max(initial=0.0)
+    # A rigid-body mode is a double zero eigenvalue (a Jordan block): eig perturbs it by
+    # about sqrt(eps) * |J|, far above eps, so "zero" is judged near sqrt(eps).
+    nonzero = magnitude[magnitude > max(fastest, 1.0) * 1e-7]
+    slowest = 1.0 / max(t_limit - t0, 1e-300)
+    if len(nonzero) == len(magnitude) and len(nonzero):
+        slowest = nonzero.min()
+    elif len(nonzero):
+        slowest = max(slowest, min(nonzero.min(), 1.0))
+    damped = np.max(-eigenvalues.real, initial=0.0)
+    if damped / slowest > _STIFFNESS_LIMIT:
+        return STIFF, f"damped modes {damped / slowest:.3g} times faster than the motion"
+    if fastest / slowest > _STIFFNESS_LIMIT and rtol >= 1e-6:
+        return STIFF, (f"oscillations {fastest / slowest:.3g} times faster than the motion, "
+                       "below the tolerance")
+    return explicit, "no stiff modes"
+
+
+class StiffnessMonitor:
+    """Whether a segment's method no longer fits the problem: every ``every`` steps
+    ``h rho(J)`` (``rho`` the spectral radius of the Jacobian ``jacobian(t, y)``) is
+    compared with the explicit method's stability limit. For an explicit ``method``:
+    ``count`` checks in a row at 70 % of the limit or more mean the problem is stiff
+    there. For a stiff ``method``: ``relax`` checks in a row with ``h rho < 1`` mean it
+    is not (the explicit method would take such steps)."""
+
+    def __init__(self, method, jacobian, rtol, every=10, count=3, relax=50):
+        self.explicit = method not in (STIFF, "LSODA", "BDF")
+        self.limit = 0.7 * STABILITY_LIMIT[method if self.explicit else explicit_for(rtol)]
+        self.jacobian, self.every = jacobian, every
+        self.needed = count if self.explicit else relax
+        self.steps, self.run, self.last = 0, 0, 0.0
+
+    def __call__(self, t, y, h) -> bool:
+        self.steps += 1
+        if self.steps % self.every:
+            return False
+        try:
+            matrix = self.jacobian(t, y)
+            rho = float(np.max(np.abs(np.linalg.eigvals(matrix))))
+        except (ArithmeticError, ValueError, np.linalg.LinAlgError):
+            return False
+        self.last = h * rho
+        changed = self.last >= self.limit if self.explicit else self.last < 1.0
+        self.run = self.run + 1 if changed else 0
+        return self.run >= self.needed
+
+
+def segment_tolerances(method, rtol, atol) -> tuple:
+    """The tolerances a segment of ``method="auto"`` runs at: the scene's, except that
+    stiff segments keep ``rtol >= STIFF_RTOL_FLOOR`` (``atol`` scaled alike). A method
+    named in the scene runs at the scene's tolerances."""
+    if method != STIFF or rtol >= STIFF_RTOL_FLOOR:
+        return rtol, atol
+    return STIFF_RTOL_FLOOR, np.asarray(atol) * (STIFF_RTOL_FLOOR / rtol)
+
+
+def fallbacks(method, rtol, compiled=False) -> list:
+    """The methods to try, in order, after ``method`` failed at some state (with the
+    compiled kernels in use, their Rodas5P first)."""
+    ladder = (["Rodas5P"] if compiled else []) + [STIFF, "LSODA", "BDF", explicit_for(rtol)]
+    return [m for m in ladder if m != method]
+
+
+def backend_plan(compiled, method, backend) -> "BackendPlan":
+    """The :class:`BackendPlan` of a run; names the culprit of a backend that cannot
+    serve the scene."""
+    from mechdyn.errors import SceneError
+    if backend not in BACKENDS:
+        raise SceneError(f"backend {backend!r}: use one of {', '.join(BACKENDS)}")
+    plan = BackendPlan(compiled, method, backend)
+    if (backend == "compiled" or method in KERNEL_ONLY) and not plan.load():
+        from mechdyn.compile.numba_model import available
+        why = ("numba is not installed (pip install numba)" if not available() else
+               f"the scene's equations ({compiled.dof} coordinates) have no compiled form")
+        raise SceneError(f"backend {backend!r} with method {method!r}: {why}; use "
+                         "backend='scipy'")
+    return plan
+
+
+class BackendPlan:
+    """Where a run's segments integrate: scipy's solvers or the compiled kernels.
+
+    ``backend="scipy"`` never compiles; ``"compiled"`` compiles (or loads) the scene at
+    once; ``"auto"`` starts on scipy unless the compiled form is in memory already, and
+    moves to the kernels when a run proves long (the driver measures it) or when a stiff
+    segment must meet a tolerance below ``STIFF_RTOL_FLOOR`` (the kernels' Rodas5P has no
+    floor). Segments with stuck friction elements, closed loops, stop limits (impacts
+    are jumps of the state) or lossy gears (their loss is decided per step) run on scipy.
+    """
+
+    def __init__(self, compiled, method, option):
+        from mechdyn.compile.numba_model import is_loaded, numba_functions
+        self.c, self.named, self.option = compiled, method, option
+        self.functions = None
+        self.why = ""
+        if option == "auto" and is_loaded(compiled):
+            self.functions = numba_functions(compiled)
+
+    @property
+    def active(self) -> bool:
+        return self.functions is not None and self.option != "scipy"
+
+    def load(self) -> bool:
+        """Compile or load the scene for the kernels; True when it has a compiled form."""
+        if self.option == "scipy":
+            return False
+        if self.functions is None:
+            from mechdyn.compile.numba_model import numba_functions
+            self.functions = numba_functions(self.c)
+        return self.functions is not None
+
+    def compilable(self, mode) -> bool:
+        meta = self.c.meta
+        return not (mode.groups or self.c.constraints or meta.get("contacts")
+                    or meta.get("gears"))
+
+    def method(self, name, mode) -> str:
+        """The method a segment runs for a requested one: the kernels' own where they
+        are in use, scipy's where not."""
+        compiled = self.active and self.compilable(mode)
+        if self.named == "auto" and compiled:
+            return "Rodas5P" if name in (STIFF, "Rodas5P") else \
+                "DOP853" if name in ("DOP853", "RK45") else name
+        if name == "Rodas5P" and not compiled:
+            return STIFF
+        return name
+
+    def backend(self, method, mode) -> str:
+        return "compiled" if (self.active and method in _KERNEL and self.compilable(mode)) \
+            else "scipy"
+
+    def can_switch(self, method, mode) -> bool:
+        """Whether ``"auto"`` may still move this segment to the kernels."""
+        return self.option == "auto" and not self.active and method in ("DOP853", "RK45",
+                                                                          STIFF) \
+            and self.compilable(mode)
+
+    def stiff(self, method) -> bool:
+        return method in (STIFF, "BDF", "LSODA", "Rodas5P")
+
+    def choose(self, p, mode, t, y, scene) -> str:
+        """The method of a segment starting at ``(t, y)`` (sets ``why``)."""
+        if self.named != "auto":
+            self.why = "named in the scene"
+            return self.method(self.named, mode)
+        name, self.why = choose_method(self.c, p, y, t, scene.time_limit, scene.rtol)
+        if name == STIFF and scene.rtol < STIFF_RTOL_FLOOR and self.option == "auto" \
+                and self.compilable(mode) and not self.active:
+            self.load()                       # Rodas5P meets the tolerance, Radau cannot
+        return self.method(name, mode)

@@ -1,0 +1,81 @@
+"""Checks of a run: its budget, the mass matrix at the start, the state after a chunk,
+and the diagnosis of a failure (the text that names why the equations fail there).
+
+>>> Budget(max_steps=10).exceeded(steps=11, elapsed=0.1)
+'11 steps exceed the step budget of 10'
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from mechdyn.compile.generated import SingularMassError
+from mechdyn.errors import SimulationError
+
+__all__ = ["Budget", "check_mass", "check_finite", "diagnosis", "state_text"]
+
+
+class Budget:
+    """Limits of a run's work: ``max_steps`` accepted steps and ``max_wall_time``
+    seconds (None: unbounded)."""
+
+    def __init__(self, max_steps=None, max_wall_time=None):
+        self.max_steps, self.max_wall_time = max_steps, max_wall_time
+
+    def exceeded(self, steps, elapsed):
+        """What is exceeded, in words, or None."""
+        if self.max_steps is not None and steps > self.max_steps:
+            return f"{steps} steps exceed the step budget of {self.max_steps}"
+        if self.max_wall_time is not None and elapsed > self.max_wall_time:
+            return (f"{elapsed:.3g} s of wall time exceed the budget of "
+                    f"{self.max_wall_time} s")
+        return None
+
+
+def check_mass(compiled, terms, t, y) -> float:
+    """Refuse a start where the mass matrix is not positive definite (on the motions
+    closed loops allow); returns the mass matrix's scale (its largest entry)."""
+    mass = terms["mass"]
+    scale = float(np.max(np.abs(mass), initial=0.0))
+    if compiled.constraints:
+        from mechdyn.simulate.friction import allowed_motions
+        basis = allowed_motions(terms["constraint_gradient"], compiled.dof)
+        if not np.all(np.linalg.eigvalsh(basis.T @ mass @ basis) > 0):
+            raise SingularMassError(", ".join(compiled.coordinates), t, y)
+        return scale
+    try:
+        np.linalg.cholesky(mass)
+    except np.linalg.LinAlgError:
+        worst = int(np.argmin(np.diag(mass))) if compiled.dof else 0
+        raise SingularMassError(compiled.coordinates[worst], t, y) from None
+    return scale
+
+
+def check_finite(compiled, t, y):
+    if not np.all(np.isfinite(y)):
+        raise SimulationError(f"integration failed at t = {t:.6g} s: the state became "
+                              f"non-finite ({state_text(compiled, y)})")
+
+
+def diagnosis(compiled, p, t, y, mass_scale) -> str:
+    """Why the equations fail at a state: an evaluation fault or a mass matrix that is
+    (nearly) singular there (a dead centre of the chosen coordinate)."""
+    try:
+        values = np.asarray(compiled.rhs(t, y, p), dtype=float)
+        mass = compiled.terms(t, y, p)["mass"]
+        eigenvalues = np.linalg.eigvalsh(mass)
+    except (ArithmeticError, ValueError, np.linalg.LinAlgError) as error:
+        return (f". The equations cannot be evaluated there: {type(error).__name__}: "
+                f"{error}")
+    scale = max(abs(eigenvalues[-1]), mass_scale, 1e-300)
+    if eigenvalues[0] <= 1e-6 * scale:
+        return (f". The mass matrix is nearly singular there (smallest eigenvalue "
+                f"{eigenvalues[0]:.3g} of {eigenvalues[-1]:.3g}): the reduced inertia of "
+                f"{', '.join(compiled.coordinates)} vanishes at this configuration, a "
+                "dead centre of the chosen coordinate")
+    if not np.all(np.isfinite(values)):
+        return ". The equations give non-finite values there (overflow or division by zero)"
+    return ""
+
+
+def state_text(compiled, y) -> str:
+    return ", ".join(f"{name} = {value:.6g}" for name, value in zip(compiled.state_names, y))

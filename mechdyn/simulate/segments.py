@@ -1,0 +1,163 @@
+"""Building a segment's integration: which events it watches, and the runner that steps
+it on scipy (:class:`~mechdyn.simulate.stepping.ScipySegment`) or on the compiled kernels
+(:class:`~mechdyn.simulate.compiled_stepping.CompiledSegment`).
+
+The watched events are described once, for both backends, as :class:`Watched` entries:
+stop conditions and switching functions, the friction elements' sliding speeds (a
+sliding element sticks where its speed crosses zero) and magnitudes (a free element
+engages) and the gaps of open stop limits (a limit reached is an impact,
+:mod:`mechdyn.simulate.contacts`), all entries of the scene's generated ``events`` function; the
+release margin
+of a stuck group (it needs the constrained equations, so segments with stuck elements
+run on scipy); the largest minor of closed loops' constraints. Each entry carries the
+side its function counts as being on while exactly zero (:mod:`mechdyn.simulate.events`).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from mechdyn.simulate.events import EventWatch
+from mechdyn.simulate.stepping import WITH_JACOBIAN, ScipySegment
+
+__all__ = ["Watched", "watched_events", "scipy_runner", "compiled_runner", "fast_rhs",
+           "tolerant"]
+
+
+@dataclass(frozen=True)
+class Watched:
+    """One watched event: ``kind`` ("stop", "switch", "stick", "engage", "gap",
+    "release", "minor", "domain"), ``index`` (the entry of the generated ``events``; the
+    group for a release; the minor), ``element`` (the stop condition, friction element or
+    stop limit, else -1), ``direction`` (+1, -1, 0), ``side`` (+1/-1: the side a zero
+    counts as; 0: a zero takes the side the function moves to) and ``offset`` (the value
+    that counts as zero: a gap negative by rounding at the segment's start)."""
+    kind: str
+    index: int
+    element: int
+    direction: int
+    side: int
+    offset: float = 0.0
+
+    @property
+    def compiled(self) -> bool:
+        """Whether it is an entry of the generated ``events`` function."""
+        return self.kind in ("stop", "switch", "stick", "engage", "gap", "domain")
+
+
+def watched_events(modes, scene, mode, muted, t0, y0, minor=None) -> list:
+    """The events of a segment with friction ``mode`` starting at ``(t0, y0)``: stop
+    conditions, switching functions (muted ones, which chattered, are unlocked and not
+    watched) from the side their flag locks, the friction and stop-limit events of
+    ``modes`` (:class:`~mechdyn.simulate.friction.FrictionModes`), and the closed loops' ``minor``
+    (``(index, direction)`` or None)."""
+    compiled = modes.c
+    kinds = compiled.event_kinds
+    stops = [i for i, (kind, _) in enumerate(kinds) if kind == "stop"]
+    switches = [i for i, (kind, _) in enumerate(kinds) if kind == "switch"]
+    rates = [i for i, (kind, _) in enumerate(kinds) if kind == "rate"]
+    magnitudes = [i for i, (kind, _) in enumerate(kinds) if kind == "magnitude"]
+    out = [Watched("stop", i, j, int(c.direction), 0)
+           for j, (i, c) in enumerate(zip(stops, scene.until))]
+    for j, i in enumerate(switches):
+        if i not in muted:
+            out.append(Watched("switch", i, -1, 0, int(mode.flags[j])))
+    for k, sign in enumerate(mode.signs):           # zero counts as the sliding side
+        if sign != 0:
+            out.append(Watched("stick", rates[k], k, int(-sign), int(sign)))
+    out += [Watched("release", g, -1, -1, 1) for g in range(len(mode.groups))]
+    out += [Watched("domain", i, j, -1, 1) for j, i in enumerate(
+        i for i, (kind, _) in enumerate(kinds) if kind == "domain")]
+    out += [Watched("engage", magnitudes[k], k, 1, -1) for k in sorted(mode.free)]
+    gaps = [i for i, (kind, _) in enumerate(kinds) if kind == "gap"]
+    out += [Watched("gap", gaps[j], j, -1, 1, offset)
+            for kind, j, _, offset in modes.watched(mode, t0, y0) if kind == "gap"]
+    if minor is not None:
+        out.append(Watched("minor", minor[0], -1, int(minor[1]), 0))
+    return out
+
+
+def scipy_runner(context, mode, method, t0, y0, t_end, h, watched, rtol, atol, monitor,
+                 segment, min_step, drift):
+    """A :class:`ScipySegment` for ``mode``: the generated ``rhs`` (or the constrained
+    one of stuck elements and lossy gears), the analytic Jacobian for implicit methods, the watched
+    events evaluated in Python."""
+    c, modes = context.c, context.modes
+    p = modes.p(mode)
+    size = 2 * c.dof
+    constrained = modes.rhs(mode)             # stuck elements or a lossy gear
+    fun = tolerant(constrained or fast_rhs(c.raw["rhs"], p, size), (size,))
+    jac = None
+    if method in WITH_JACOBIAN and constrained is None:
+        jac = tolerant(lambda t, y: c.jac(t, y, p), (size, size))
+    watch = _event_watch(c, modes, mode, p, watched)
+    max_step = context.max_step if mode.groups else np.inf
+    return ScipySegment(method, fun, jac, t0, y0, t_end, rtol, atol, segment, watch,
+                        monitor, first_step=h, max_step=max_step, min_step=min_step,
+                        drift=drift)
+
+
+def compiled_runner(context, functions, mode, method, t0, y0, t_end, h, watched, rtol,
+                    atol, segment, switch):
+    """A :class:`CompiledSegment` (every watched event an entry of ``events``, counting
+    zero as zero: no offset)."""
+    from mechdyn.simulate.compiled_stepping import CompiledSegment
+    c = context.c
+    spec = [(w.index, w.direction, w.side) for w in watched]
+    return CompiledSegment(method, functions, context.modes.p(mode), t0, y0, t_end, rtol,
+                           atol, segment, spec, len(c.event_kinds), first_step=h,
+                           switch=switch, autonomous=c.meta.get("autonomous", False))
+
+
+def _event_watch(c, modes, mode, p, watched):
+    """An :class:`EventWatch` over the watched events, numbered as ``watched``."""
+    if not watched:
+        return None
+    size = len(c.event_kinds)
+    releases = [("release", w.index, w.direction, 0.0) for w in watched
+                if w.kind == "release"]
+    raw_events = c.raw["events"]
+
+    def values(t, y):
+        out = [0.0] * size
+        raw_events(t, _floats(y), p, out)
+        margins = iter(modes.event_values(t, y, mode, releases))
+        minors = c.loop_minors(t, y, p) if c.constraints else ()
+        return np.array([out[w.index] - w.offset if w.compiled else
+                         next(margins) if w.kind == "release" else minors[w.index]
+                         for w in watched])
+    watch = EventWatch(values, [w.direction for w in watched],
+                       [w.side != 0 and w.kind != "switch" for w in watched],
+                       interior=2 if mode.groups else 0)
+    watch.start_sides = {k: w.side for k, w in enumerate(watched) if w.kind == "switch"}
+    return watch
+
+
+def _floats(y):
+    return y.tolist() if type(y) is np.ndarray else y
+
+
+def fast_rhs(raw, p, size):
+    """solve_ivp's ``fun(t, y)`` over a generated ``rhs(t, y, p, out)``."""
+    def fun(t, y):
+        out = [0.0] * size
+        raw(t, y.tolist(), p, out)
+        return out
+    return fun
+
+
+def tolerant(function, shape):
+    """``function`` as the solver should see it: NaN where the equations cannot be
+    evaluated (an overflowing trial stage, a singular mass matrix there), so the step is
+    rejected and shrunk as for any NaN. Real failures surface as a collapsing step."""
+    from mechdyn.errors import SimulationError
+    failed = np.full(shape, np.nan)
+    errors = (ArithmeticError, ValueError, SimulationError, np.linalg.LinAlgError)
+
+    def guarded(t, y):
+        try:
+            return function(t, y)
+        except errors:
+            return failed
+    return guarded
