@@ -8,7 +8,7 @@ Every public name loads on first use (the declaring API with sympy, the later st
 when asked for), so a run that needs no sympy (the command line's warm start) never
 imports it.
 """
-__version__ = "0.1.0"
+from mechdyn.version import __version__
 
 from importlib import import_module
 
@@ -20,11 +20,11 @@ _LAZY = {
     **dict.fromkeys(["Damper", "Friction", "Gravity", "Link", "Load", "Spring"], "declare.elements"),
     **dict.fromkeys(["OneWayClutch", "Stop", "LossyGear"], "declare.unilateral"),
     "table": "declare.tables", "Table": "declare.tables",
-    "Mechanism": "declare.mechanism", "Model": "declare.model_file", "load_model": "declare.model_file",
+    "Mechanism": "machine", "Model": "declare.model_file", "load_model": "declare.model_file",
     "Scene": "declare.scene", "reaches": "declare.scene", "stopped": "declare.scene",
     **dict.fromkeys(["acceleration", "coordinate", "coordinates", "plain", "speed", "t"],
                     "symbols"),
-    "classify": "derive.analytic", "closed_form": "derive.analytic", "driving_moment": "derive.analytic",
+    "classify": "derive.analytic", "closed_form": "derive.analytic", "driving_moment": "analyse.linkage_drive",
     "uniform_rotation": "derive.analytic", "uniform_acceleration": "derive.analytic",
     "Classification": "derive.analytic", "Solution": "derive.analytic", "StopPoint": "derive.analytic",
     "Motion": "derive.analytic", "DrivingMoment": "derive.analytic", "AnalyticError": "derive.analytic",

@@ -19,7 +19,7 @@ import numpy as np
 
 from mechdyn.errors import MechdynError
 
-__all__ = ["KINDS", "Display", "column_units", "output_units", "kind_of"]
+__all__ = ["KINDS", "Display", "column_units", "kind_of"]
 
 # kind -> its SI unit (the text columns carry)
 KINDS = {"angle": "rad", "speed": "rad/s", "acceleration": "rad/s^2", "length": "m",
@@ -93,46 +93,3 @@ def column_units(result) -> dict:
 
 def _per(unit, time):
     return f"{unit}/{time}" if unit not in ("", "1") else f"1/{time}"
-
-
-def output_units(mechanism, scene) -> dict:
-    """The SI unit of each of a scene's outputs, by label (see the module)."""
-    import sympy as sp
-    from mechdyn.declare.dimensions import ENERGY, TIME, Misfit, MissingUnit, _plain, dimension_of, \
-        known_dimensions
-    from mechdyn.declare.elements import Damper, Friction, Load, Spring
-    from mechdyn.declare.unilateral import LossyGear, Stop
-    known = {sp.Symbol(s.name): d for s, d in known_dimensions(mechanism).items()}
-
-    def dimension(expr):
-        try:
-            return dimension_of(_plain(expr), known)
-        except (Misfit, MissingUnit):
-            return None
-    units = {}
-    for label, item in scene.labelled_outputs():
-        if isinstance(item, str) and item.startswith("power:"):
-            units[label] = "W"
-            continue
-        name, _, suffix = item.rpartition(".") if isinstance(item, str) else ("", "", "")
-        element = mechanism.elements.get(item) if isinstance(item, str) else None
-        if name in mechanism.elements and suffix in ("slip", "loss", "mode"):
-            element, along = mechanism.elements[name], None
-            if suffix != "mode":
-                along = dimension(element.input if isinstance(element, LossyGear)
-                                  else element.along)
-            units[label] = "" if along is None else \
-                (along / TIME).si if suffix == "slip" else (ENERGY / along).si
-        elif isinstance(element, (Load, Friction, Stop, LossyGear)):
-            along = dimension(element.input if isinstance(element, LossyGear)
-                              else element.along)
-            units[label] = (ENERGY / along).si if along is not None else ""
-        elif isinstance(element, (Spring, Damper)):
-            stretch = dimension(element.stretch)
-            units[label] = (ENERGY / stretch).si if stretch is not None else ""
-        elif isinstance(item, sp.Basic):
-            dim = dimension(item)
-            units[label] = dim.si if dim is not None and not dim.dimensionless else ""
-        else:
-            units[label] = ""
-    return units

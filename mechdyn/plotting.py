@@ -188,3 +188,15 @@ def finish(fig, path):
         fig.savefig(path, dpi=110)
         pyplot().close(fig)
     return fig
+
+
+def figure_html(fig, alt) -> str:
+    """A matplotlib figure as an embedded PNG in a paragraph (the figure is closed)."""
+    import base64
+    import io
+    from mechdyn.table import escape
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="png", dpi=100)
+    pyplot().close(fig)
+    data = base64.b64encode(buffer.getvalue()).decode("ascii")
+    return f"<p><img alt='{escape(alt)}' src='data:image/png;base64,{data}'></p>"

@@ -1,7 +1,8 @@
 """Inverse dynamics of one-DOF linkages with closed loops: the driving moment a prescribed
 crank motion needs, ``M_drive = I_red eps + 1/2 I_red' omega^2 - M_red,other``, with
 ``I_red`` and ``M_red`` from the loops' transmission functions.
-:func:`mechdyn.driving_moment` comes here for mechanisms with loops.
+:func:`driving_moment` (``md.driving_moment``) takes the closed form of
+:mod:`mechdyn.derive.analytic` for open chains and comes here for mechanisms with loops.
 
 The expression is written in the crank angle, the dependent coordinates and the
 transmission functions ``theta_2'``, ``theta_2''`` (their values come from the position
@@ -27,11 +28,12 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
+from mechdyn.derive import analytic
 from mechdyn.derive.analytic import AnalyticError, DrivingMoment, Motion, _exact
 from mechdyn.symbols import t
 from mechdyn.derive.transmission import ratio_symbol, reduced_inertia_in_ratios
 
-__all__ = ["LoopDrivingMoment", "loop_driving_moment"]
+__all__ = ["driving_moment", "LoopDrivingMoment", "loop_driving_moment"]
 
 
 @dataclass
@@ -61,6 +63,17 @@ class LoopDrivingMoment(DrivingMoment):
             raise ParameterError("driving moment statistics: the motion has no numeric "
                                  "time window (give duration=)")
         return (lambda value: float(self.at(value)[0])), float(self.window)
+
+
+def driving_moment(mech, motion, params=None, scene=None, drive=None,
+                   guess=None) -> DrivingMoment:
+    """The driving moment a one-DOF machine needs to follow ``motion`` (inverse
+    dynamics): the closed form of :func:`mechdyn.derive.analytic.driving_moment` for open
+    chains, :func:`loop_driving_moment` for closed loops (``guess``: the dependent
+    coordinates near the start)."""
+    if mech.constraints:
+        return loop_driving_moment(mech, motion, params, scene, drive, guess)
+    return analytic.driving_moment(mech, motion, params, scene, drive, guess)
 
 
 def loop_driving_moment(mech, motion, params=None, scene=None, drive=None, guess=None):

@@ -44,7 +44,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mechdyn import __version__
+from mechdyn.version import __version__
 from mechdyn.errors import ParameterError
 from mechdyn.declare.parameters import ParameterSet, to_number
 from mechdyn.analyse.sweep_file import MAX_POINTS, TEXT_COLUMNS, SweepError, SweepFile, SweepFileError

@@ -13,7 +13,7 @@ import sys
 import traceback
 import warnings
 
-from mechdyn import __version__
+from mechdyn.version import __version__
 from mechdyn.errors import MechdynError, MechdynWarning, SimulationError
 
 __all__ = ["main"]

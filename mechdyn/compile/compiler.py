@@ -31,7 +31,7 @@ from pathlib import Path
 
 import sympy as sp
 
-from mechdyn import __version__
+from mechdyn.version import __version__
 
 from mechdyn import cache
 from mechdyn.compile.generate import generate

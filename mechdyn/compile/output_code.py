@@ -19,10 +19,9 @@ from __future__ import annotations
 
 import sympy as sp
 
-from mechdyn.declare.elements import Constraint, Damper, Friction, Load, Spring
+from mechdyn.declare.elements import Constraint
+from mechdyn.derive.equations import element_output
 from mechdyn.errors import SceneError
-from mechdyn.symbols import t
-from mechdyn.declare.unilateral import Stop
 
 __all__ = ["outputs", "slip_signed", "friction_signed"]
 
@@ -69,7 +68,7 @@ def outputs(eqs, scene, elements) -> list:
             if "." in item and item.rsplit(".", 1)[1] in _SUFFIXES:
                 result.append((label, _coupling_output(eqs, scene, item), item))
                 continue
-            result.append((label, _element_output(eqs, scene, item, elements), item))
+            result.append((label, element_output(eqs, scene.name, item, elements), item))
         elif isinstance(item, sp.Basic):
             result.append((label, eqs.to_plain(sp.sympify(item)), label))
         else:
@@ -98,24 +97,3 @@ def _coupling_output(eqs, scene, item):
                      f" stop or lossy gear {name!r} in the scene with a {suffix!r} output")
 
 
-def _element_output(eqs, scene, name, elements):
-    element = elements.get(name) if name in eqs.elements else None
-    if element is None:
-        raise SceneError(f"scene {scene.name!r}: output {name!r} is not an element of the "
-                         f"scene (elements: {list(eqs.elements)})")
-    if isinstance(element, Spring):
-        return eqs.to_plain(element.k * element.stretch)
-    if isinstance(element, Damper):
-        stretch = eqs.to_plain(element.stretch)
-        rate = sum((sp.diff(stretch, q) * u for q, u in zip(eqs.q, eqs.u)), sp.S.Zero) \
-            + sp.diff(stretch, t)
-        return eqs.to_plain(element.c) * rate
-    if isinstance(element, Load):
-        return eqs.to_plain(element.value)
-    if isinstance(element, Friction):
-        fr = next(f for f in eqs.frictions if f.name == name)
-        return -fr.magnitude * sp.sign(fr.rate)
-    if isinstance(element, Stop):          # the contact force: filled in at run time
-        return sp.S.Zero
-    raise SceneError(f"scene {scene.name!r}: output {name!r}: a {type(element).__name__.lower()}"
-                     " has no single force to record; ask for an expression instead")

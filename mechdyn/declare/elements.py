@@ -17,6 +17,7 @@ import sympy as sp
 from sympy.core.sympify import SympifyError, _sympify
 
 from mechdyn.errors import DeclarationError
+from mechdyn.symbols import t
 
 __all__ = ["Element", "Link", "Load", "Spring", "Damper", "Gravity", "Friction",
            "Constraint", "Joint", "FRAME", "is_structural", "as_expression"]
@@ -72,6 +73,11 @@ class Element:
         if nonnegative:
             _nonnegative(expr, what)
         object.__setattr__(self, attribute, expr)
+
+    def output(self, eqs):
+        """The force or moment this element records as a scene output, written in the
+        plain symbols of the derived equations ``eqs``; None: it has no single one."""
+        return None
 
     def expressions(self) -> dict:
         """The element's expressions by attribute name."""
@@ -144,6 +150,9 @@ class Load(Element):
                 raise DeclarationError(
                     f"load {self.name!r}: efficiency must lie in (0, 1], got {eta}")
 
+    def output(self, eqs):
+        return eqs.to_plain(self.value)
+
     def expressions(self):
         out = {"value": self.value, "along": self.along}
         if self.efficiency is not None:
@@ -164,6 +173,9 @@ class Spring(Element):
         self._expr("k", nonnegative=True)
         self._expr("stretch")
 
+    def output(self, eqs):
+        return eqs.to_plain(self.k * self.stretch)
+
     def expressions(self):
         return {"k": self.k, "stretch": self.stretch}
 
@@ -179,6 +191,12 @@ class Damper(Element):
         super().__post_init__()
         self._expr("c", nonnegative=True)
         self._expr("stretch")
+
+    def output(self, eqs):
+        stretch = eqs.to_plain(self.stretch)
+        rate = sum((sp.diff(stretch, q) * u for q, u in zip(eqs.q, eqs.u)), sp.S.Zero) \
+            + sp.diff(stretch, t)
+        return eqs.to_plain(self.c) * rate
 
     def expressions(self):
         return {"c": self.c, "stretch": self.stretch}
@@ -219,6 +237,10 @@ class Friction(Element):
             raise DeclarationError(f"{type(self).__name__.lower()} {self.name!r}: peak = "
                                    f"{float(self.peak):g} must be at least 1 (static "
                                    "friction is never below sliding friction)")
+
+    def output(self, eqs):
+        fr = next(f for f in eqs.frictions if f.name == self.name)
+        return -fr.magnitude * sp.sign(fr.rate)
 
     def expressions(self):
         out = {"moment": self.moment, "along": self.along}

@@ -290,104 +290,6 @@ class Mechanism(Couplings):
                 f"{what}: does not depend on the coordinates {_names(self.coordinates)}, "
                 "so it never moves and does no work")
 
-    # ------------------------------------------------------------------ deriving
-    def equations(self, scene=None):
-        """Lagrange's equations ``M(q) q'' = f(q, q', t)`` (an :class:`Equations`),
-        for all elements or for those a :class:`Scene` calls for."""
-        from mechdyn.derive.lagrange import derive
-        from mechdyn.declare.scene import selection
-        key = selection(self, scene)
-        if key not in self._derived:
-            eqs = derive(self, *key)
-            if self.parameter_units:
-                from mechdyn.declare.dimensions import check_equations
-                self.check_dimensions()
-                check_equations(eqs, self)
-            self._derived[key] = eqs
-        return self._derived[key]
-
-    def check_dimensions(self, scene=None):
-        """Check the dimension of every element's contribution to every equation (and,
-        with a scene, its stop conditions and initial values); raises a
-        :class:`DeclarationError` naming the element and both dimensions. Runs by
-        itself when equations are derived, if parameter units are declared."""
-        from mechdyn.declare.dimensions import check_elements, check_equations, check_scene
-        if not self._dimensions_checked:
-            check_elements(self)
-            self._dimensions_checked = True
-        if scene is not None:
-            eqs = self.equations(scene)
-            if not self.parameter_units:         # equations() checks when units exist
-                check_equations(eqs, self)
-            check_scene(self, scene)
-
-    def reduced_inertia(self, scene=None):
-        """The reduced (equivalent) moment of inertia of a one-DOF mechanism; with
-        closed loops an expression of the crank angle and the dependent coordinates."""
-        eqs = self.equations(scene)
-        if eqs.constraints:
-            from mechdyn.derive.transmission import reduced_inertia
-            return reduced_inertia(eqs)
-        return eqs.reduced_inertia
-
-    def reduced_moment(self, scene=None):
-        """The reduced moment of a one-DOF mechanism (includes gravity and springs)."""
-        eqs = self.equations(scene)
-        if eqs.constraints:
-            from mechdyn.derive.transmission import reduced_moment
-            return reduced_moment(eqs)
-        return eqs.reduced_moment
-
-    def transmission_functions(self, order=1, scene=None) -> dict:
-        """Of a one-DOF linkage: ``dq/dphi`` (``order=1``) or ``d2q/dphi2`` (2, written
-        in the first-order ones, ``theta_2'``) of each dependent coordinate, by its
-        plain symbol; expressions of the crank angle and the dependent coordinates."""
-        from mechdyn.derive.transmission import ratios, second_ratios
-        eqs = self.equations(scene)
-        return ratios(eqs) if order == 1 else second_ratios(eqs)
-
-    def latex(self, scene=None) -> str:
-        """The derivation as LaTeX: energies, forces, reduced quantities, equations."""
-        from mechdyn.derive.latex import derivation_latex
-        return derivation_latex(self.equations(scene))
-
-    def compile(self, scene):
-        """The scene's compiled functions (``rhs``, ``jac`` in solve_ivp's ``(t, y)``
-        form after binding ``p``), cached: a :class:`~mechdyn.compile.compiler.CompiledScene`."""
-        from mechdyn.compile.compiler import compile_scene
-        return compile_scene(self, scene)
-
-    def simulate(self, scene, params=None, **options):
-        """Integrate a :class:`Scene`; returns a :class:`Result` (its ``units``: the SI
-        unit of each coordinate and output). ``options``: ``progress``, ``max_steps``,
-        ``max_wall_time``, ``start`` of :func:`mechdyn.simulate.simulation.simulate`."""
-        from mechdyn.errors import SimulationError
-        from mechdyn.simulate.simulation import simulate
-        try:
-            result = simulate(self, scene, params or {}, **options)
-        except SimulationError as error:
-            if error.partial is not None:
-                self._label_units(error.partial, scene)
-            raise
-        return self._label_units(result, scene)
-
-    def linearize(self, scene=None, at=None, params=None, inputs=(), outputs=()):
-        """State-space matrices A, B, C, D about an operating point ``at`` (a
-        :class:`~mechdyn.derive.linear.StateSpace`; inputs: parameters, outputs: coordinates,
-        speeds, element names or expressions)."""
-        from mechdyn.derive.linear import linearize
-        return linearize(self, scene, at, params, inputs, outputs)
-
-    def _label_units(self, result, scene):
-        hit = self._memo.get(("units", id(scene)))
-        if hit is None or hit[0] is not scene:
-            from mechdyn.display import output_units
-            hit = (scene, output_units(self, scene))
-            self._memo[("units", id(scene))] = hit
-        result.units.update({label: unit for label, unit in hit[1].items()
-                             if label not in result.units})
-        return result
-
     # ------------------------------------------------------------------ viewing
     def __repr__(self):
         kinds = {}
@@ -395,14 +297,6 @@ class Mechanism(Couplings):
             kinds[type(e).__name__.lower()] = kinds.get(type(e).__name__.lower(), 0) + 1
         parts = ", ".join(f"{n} {k}{'s' if n > 1 else ''}" for k, n in kinds.items())
         return f"Mechanism({self.name!r}, coordinates {_names(self.coordinates)}; {parts})"
-
-    def _repr_latex_(self):
-        return self.equations()._repr_latex_()
-
-    def _repr_html_(self):
-        """Jupyter: the elements as a table and the derivation."""
-        from mechdyn.report.document import mechanism_html
-        return mechanism_html(self)
 
     def __getstate__(self):
         """Pickled (e.g. for sweep workers) without the caches of derived equations."""

@@ -14,6 +14,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import sympy as sp
+
 from mechdyn.declare.elements import Constraint, Element, Friction
 from mechdyn.errors import DeclarationError
 
@@ -50,6 +52,9 @@ class Stop(Element):
     lower: object = None
     upper: object = None
     restitution: object = 0
+
+    def output(self, eqs):
+        return sp.S.Zero              # the contact force: filled in at run time
 
     def __post_init__(self):
         super().__post_init__()

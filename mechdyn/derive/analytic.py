@@ -765,8 +765,8 @@ def driving_moment(mech, motion, params=None, scene=None, drive=None,
         raise AnalyticError(f"driving_moment: motion must be a md.Motion (from "
                             f"md.uniform_rotation or md.uniform_acceleration), got {motion!r}")
     if mech.constraints:
-        from mechdyn.analyse.linkage_drive import loop_driving_moment
-        return loop_driving_moment(mech, motion, params, scene, drive, guess)
+        raise AnalyticError(f"driving_moment: {mech.name!r} has closed loops; their driving "
+                            "moment needs the position analysis: use md.driving_moment")
     eqs, subs, inertia, other = _reduced(mech, scene, params, "driving_moment", drive)
     q, u, a = eqs.q[0], eqs.u[0], eqs.a[0]
     other, _ = _fix_friction_sign(other, q, u, motion.direction)

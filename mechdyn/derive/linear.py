@@ -35,6 +35,7 @@ import numpy as np
 import sympy as sp
 
 from mechdyn.errors import MechdynError, ParameterError
+from mechdyn.derive.equations import element_output
 from mechdyn.derive.modal import _numeric, _operating_point
 from mechdyn.declare.parameters import ParameterSet
 from mechdyn.symbols import is_coordinate, plain, t
@@ -146,7 +147,6 @@ def _input_symbol(w, by_name, eqs):
 
 def _outputs(mechanism, eqs, outputs):
     """Labels and plain expressions of the outputs (all states by default)."""
-    from mechdyn.compile.output_code import _element_output
     if not outputs:
         states = list(eqs.q) + list(eqs.u)
         return [str(s) for s in states], states
@@ -156,7 +156,7 @@ def _outputs(mechanism, eqs, outputs):
             if item not in mechanism.elements:
                 raise MechdynError(f"linearize: output {item!r} is not an element of "
                                    f"{mechanism.name!r}")
-            expr = _element_output(eqs, _Named(item), item, mechanism.elements)
+            expr = element_output(eqs, item, item, mechanism.elements)
             labels.append(item)
         else:
             expr = eqs.to_plain(sp.sympify(item))
@@ -171,9 +171,3 @@ def _outputs(mechanism, eqs, outputs):
 def _is_state(item):
     return is_coordinate(item) or (isinstance(item, sp.Derivative) and
                                    is_coordinate(item.expr) and item.variable_count == ((t, 1),))
-
-
-@dataclass(frozen=True)
-class _Named:
-    """Stands in for a scene in error messages of element outputs."""
-    name: str

@@ -14,9 +14,6 @@ of :mod:`mechdyn.analyse.precision`.
 """
 from __future__ import annotations
 
-import base64
-import html
-import io
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -26,10 +23,11 @@ from sympy.core.function import AppliedUndef
 from mechdyn.declare.elements import is_structural
 from mechdyn.errors import SimulationError
 from mechdyn.derive.latex import derivation_latex, derivation_steps
-from mechdyn.plotting import dense_series
 from mechdyn.symbols import plain
+from mechdyn.plotting import figure_html
+from mechdyn.table import JUPYTER_STYLE, escape
 
-__all__ = ["report", "Report", "result_html", "mechanism_html"]
+__all__ = ["report", "Report", "mechanism_html"]
 
 _STYLE = """
 body { font-family: system-ui, sans-serif; max-width: 1100px; margin: 2em auto;
@@ -48,10 +46,6 @@ img { max-width: 100%; }
 .note { color: #555; font-size: .9em; }
 math[display=block] { margin: .2em 0; }
 """
-# Jupyter right-aligns table cells; text columns of mechdyn's views read left-aligned.
-_JUPYTER_STYLE = ("<style>.mechdyn table td, .mechdyn table th { text-align: left; "
-                  "vertical-align: top; } .mechdyn table td.num { text-align: right; }"
-                  "</style>")
 
 
 @dataclass(frozen=True)
@@ -115,16 +109,10 @@ def report(mechanism, scene, params, precision=False) -> Report:
 
 
 # ------------------------------------------------------------------ Jupyter views
-def result_html(result) -> str:
-    """A result as HTML: how it ended, final and peak values, events, the figure."""
-    return (f"<div class='mechdyn'>{_JUPYTER_STYLE}<h3>{_e(result.mechanism_name)} — "
-            f"scene {_e(result.scene.name)}</h3>" + _results(result, "") + "</div>")
-
-
 def mechanism_html(mechanism) -> str:
     """A mechanism as HTML: its elements and the derivation (MathML)."""
     eqs = mechanism.equations()
-    return (f"<div class='mechdyn'>{_JUPYTER_STYLE}<h3>{_e(mechanism.name)}</h3>"
+    return (f"<div class='mechdyn'>{JUPYTER_STYLE}<h3>{_e(mechanism.name)}</h3>"
             + _elements(mechanism, eqs) + _derivation(eqs, source=False) + "</div>")
 
 
@@ -198,39 +186,7 @@ def _scene(scene) -> str:
 
 def _results(result, failure) -> str:
     parts = [f"<p class='failed'>{_e(failure)}</p>"] if failure else []
-    if result is None:
-        return "".join(parts)
-    parts.append(f"<p>Ended at t = {result.t_end:.6g} s ({_e(result.reason)}).</p>")
-    n = result.compiled.dof
-    _, states, outputs = dense_series(result)        # peaks between steps too
-    rows = []
-    for i, name in enumerate(result.coordinates):
-        unit = result.units.get(name, "rad")
-        for label, values, u in ((name, states[i], unit), (f"d{name}/dt", states[n + i],
-                                                          f"{unit}/s")):
-            rows.append(_value_row(label, values, u))
-    rows += [_value_row(label, values, result.units.get(label, ""))
-             for label, values in outputs.items()]
-    parts.append("<table><tr><th>quantity</th><th>start</th><th>final</th><th>peak</th>"
-                 "<th>unit</th></tr>" + "".join(rows) + "</table>")
-    if result.events:
-        events = "".join(f"<tr><td class='num'>{e.time:.6g}</td><td>{_e(e.kind)}</td>"
-                         f"<td>{_e(e.name)}</td><td>{_e(e.detail)}</td></tr>"
-                         for e in result.events)
-        parts.append("<table><tr><th>t [s]</th><th>event</th><th>element or condition</th>"
-                     "<th>detail</th></tr>" + events + "</table>")
-    s = result.stats
-    parts.append(f"<p class='note'>{_e(s['method'])}: {s['steps']} steps, {s['nfev']} "
-                 f"right-hand-side calls, {s.get('njev', 0)} Jacobians, "
-                 f"{s.get('wall_time', 0) * 1e3:.1f} ms</p>")
-    parts.append(_figure(result.plot(), "the scene's default figure"))
-    return "".join(parts)
-
-
-def _value_row(label, values, unit) -> str:
-    peak = values[abs(values).argmax()] if len(values) else float("nan")
-    cells = "".join(f"<td class='num'>{v:.6g}</td>" for v in (values[0], values[-1], peak))
-    return f"<tr><td>{_e(label)}</td>{cells}<td>{_e(unit)}</td></tr>"
+    return "".join(parts) + (result.html() if result is not None else "")
 
 
 def _precision(mechanism, scene, params) -> str:
@@ -256,20 +212,10 @@ def _precision(mechanism, scene, params) -> str:
             "exclude compilation.</p><table><tr><th>method</th><th>rtol</th><th>final "
             "error</th><th>L2 error</th><th>event error</th><th>time [ms]</th><th>RHS "
             "calls</th><th>steps</th></tr>" + "".join(rows) + "</table>"
-            + _figure(table.plot(), "work-precision diagram"))
+            + figure_html(table.plot(), "work-precision diagram"))
 
 
 # ----------------------------------------------------------------------- pieces
-def _figure(fig, alt) -> str:
-    """A matplotlib figure as an embedded PNG (the figure is closed)."""
-    from mechdyn.plotting import pyplot
-    buffer = io.BytesIO()
-    fig.savefig(buffer, format="png", dpi=100)
-    pyplot().close(fig)
-    data = base64.b64encode(buffer.getvalue()).decode("ascii")
-    return f"<p><img alt='{_e(alt)}' src='data:image/png;base64,{data}'></p>"
-
-
 def _plain(expr):
     """Coordinates and their derivatives written as the plain symbols (phi, phidot)."""
     expr = expr.xreplace({d: plain(d) for d in expr.atoms(sp.Derivative)})
@@ -298,5 +244,4 @@ def _display(latex) -> str:
     return _math(latex, display="block")
 
 
-def _e(text) -> str:
-    return html.escape(str(text), quote=True)
+_e = escape

@@ -20,6 +20,7 @@ from mechdyn.errors import MechdynError
 from mechdyn.simulate.events import Event
 from mechdyn.simulate.mode_outputs import run_time_outputs
 from mechdyn.simulate.trajectory import Trajectory
+from mechdyn.table import JUPYTER_STYLE, Table, escape
 
 __all__ = ["Result", "Event", "Trajectory"]
 
@@ -310,10 +311,43 @@ class Result:
         return (f"<Result {self.mechanism_name!r} / {self.scene.name!r}: t_end = "
                 f"{self.t_end:.6g} s, {len(self.t)} points, {self.reason}>")
 
+    def values_table(self) -> Table:
+        """Start, final and peak (largest magnitude, between steps too) of every
+        coordinate, speed and output, with its SI unit."""
+        from mechdyn.plotting import dense_series
+        n = self.compiled.dof
+        _, states, outputs = dense_series(self)
+        rows = []
+        for i, name in enumerate(self.coordinates):
+            unit = self.units.get(name, "rad")
+            rows += [_value_row(name, states[i], unit),
+                     _value_row(f"d{name}/dt", states[n + i], f"{unit}/s")]
+        rows += [_value_row(label, values, self.units.get(label, ""))
+                 for label, values in outputs.items()]
+        return Table(["quantity", "start", "final", "peak", "unit"], rows)
+
+    def events_table(self) -> Table:
+        """The events: time, kind, element or condition, detail."""
+        return Table(["t [s]", "event", "element or condition", "detail"],
+                     [[float(e.time), e.kind, e.name, e.detail] for e in self.events])
+
+    def html(self) -> str:
+        """How it ended, the values and events tables, the cost and the default figure."""
+        from mechdyn.plotting import figure_html
+        s = self.stats
+        return "".join([
+            f"<p>Ended at t = {self.t_end:.6g} s ({escape(self.reason)}).</p>",
+            self.values_table().html(),
+            self.events_table().html() if self.events else "",
+            f"<p class='note'>{escape(s['method'])}: {s['steps']} steps, {s['nfev']} "
+            f"right-hand-side calls, {s.get('njev', 0)} Jacobians, "
+            f"{s.get('wall_time', 0) * 1e3:.1f} ms</p>",
+            figure_html(self.plot(), "the scene's default figure")])
+
     def _repr_html_(self):
         """Jupyter: the summary as a table, the events and the default figure."""
-        from mechdyn.report.document import result_html
-        return result_html(self)
+        return (f"<div class='mechdyn'>{JUPYTER_STYLE}<h3>{escape(self.mechanism_name)} — "
+                f"scene {escape(self.scene.name)}</h3>{self.html()}</div>")
 
     def plot(self, path=None, points=400, sample=None, units=None):
         """Coordinates, speeds and outputs against time, events marked, axes labelled
@@ -322,6 +356,11 @@ class Result:
         ``path`` (PNG, SVG, PDF by its suffix) and returns the matplotlib figure."""
         from mechdyn.plotting import plot_result
         return plot_result(self, path, points, sample=sample, units=units)
+
+
+def _value_row(label, values, unit) -> list:
+    peak = values[abs(values).argmax()] if len(values) else float("nan")
+    return [label, float(values[0]), float(values[-1]), float(peak), unit]
 
 
 def sample_times(first, last, sample) -> np.ndarray:

@@ -31,7 +31,8 @@ import sympy as sp
 
 from mechdyn.compile.compiler import compile_scene
 from mechdyn.simulate.driver import Budget, Driver
-from mechdyn.errors import SceneError
+from mechdyn.declare.output_units import output_units
+from mechdyn.errors import SceneError, SimulationError
 from mechdyn.simulate.methods import KERNEL_ONLY, choose_method
 from mechdyn.declare.parameters import ParameterSet
 from mechdyn.simulate.result import Result
@@ -75,7 +76,24 @@ def simulate(mechanism, scene: Scene, params: dict, *, progress=None, max_steps=
     budget = Budget(scene.max_steps if max_steps is None else max_steps,
                     scene.max_wall_time if max_wall_time is None else max_wall_time)
     driver = Driver(compiled, base, scene, atol, mechanism, budget, progress, backend)
-    return driver.run(y0)
+    try:
+        result = driver.run(y0)
+    except SimulationError as error:
+        if error.partial is not None:
+            label_units(error.partial, mechanism, scene)
+        raise
+    return label_units(result, mechanism, scene)
+
+
+def label_units(result, mechanism, scene):
+    """The SI unit of each output in ``result.units`` (remembered per scene)."""
+    hit = mechanism._memo.get(("units", id(scene)))
+    if hit is None or hit[0] is not scene:
+        hit = (scene, output_units(mechanism, scene))
+        mechanism._memo[("units", id(scene))] = hit
+    result.units.update({label: unit for label, unit in hit[1].items()
+                         if label not in result.units})
+    return result
 
 
 # --------------------------------------------------------------------- inputs

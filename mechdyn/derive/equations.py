@@ -1,0 +1,83 @@
+"""A mechanism's derived equations, remembered per selection of elements, with the
+dimension checks that run when parameter units are declared; the reduced quantities and
+transmission functions read from them.
+
+>>> import sympy as sp, mechdyn as md
+>>> phi = md.coordinate("phi")
+>>> J, M = sp.symbols("J M", positive=True)
+>>> drive = md.Mechanism("drive", [phi])
+>>> _ = drive.link("rotor", J=J, angle=phi)
+>>> _ = drive.load("motor", M, along=phi)
+>>> reduced_inertia(drive), reduced_moment(drive)
+(J, M)
+"""
+from mechdyn.declare.dimensions import check_elements, check_equations, check_scene
+from mechdyn.declare.scene import selection
+from mechdyn.derive import transmission
+from mechdyn.derive.lagrange import derive
+from mechdyn.errors import SceneError
+
+__all__ = ["equations", "check_dimensions", "reduced_inertia", "reduced_moment",
+           "transmission_functions", "element_output"]
+
+
+def equations(mechanism, scene=None):
+    """Lagrange's equations ``M(q) q'' = f(q, q', t)`` (an :class:`Equations`), for all
+    elements or for those a :class:`Scene` calls for; derived once per selection."""
+    key = selection(mechanism, scene)
+    if key not in mechanism._derived:
+        eqs = derive(mechanism, *key)
+        if mechanism.parameter_units:
+            check_dimensions(mechanism)
+            check_equations(eqs, mechanism)
+        mechanism._derived[key] = eqs
+    return mechanism._derived[key]
+
+
+def check_dimensions(mechanism, scene=None):
+    """Check the dimension of every element's contribution to every equation (and, with
+    a scene, its stop conditions and initial values); raises a :class:`DeclarationError`
+    naming the element and both dimensions."""
+    if not mechanism._dimensions_checked:
+        check_elements(mechanism)
+        mechanism._dimensions_checked = True
+    if scene is not None:
+        eqs = equations(mechanism, scene)
+        if not mechanism.parameter_units:        # equations() checks when units exist
+            check_equations(eqs, mechanism)
+        check_scene(mechanism, scene)
+
+
+def reduced_inertia(mechanism, scene=None):
+    """The reduced (equivalent) moment of inertia of a one-DOF mechanism; with closed
+    loops an expression of the crank angle and the dependent coordinates."""
+    eqs = equations(mechanism, scene)
+    return transmission.reduced_inertia(eqs) if eqs.constraints else eqs.reduced_inertia
+
+
+def reduced_moment(mechanism, scene=None):
+    """The reduced moment of a one-DOF mechanism (includes gravity and springs)."""
+    eqs = equations(mechanism, scene)
+    return transmission.reduced_moment(eqs) if eqs.constraints else eqs.reduced_moment
+
+
+def transmission_functions(mechanism, order=1, scene=None) -> dict:
+    """Of a one-DOF linkage: ``dq/dphi`` (``order=1``) or ``d2q/dphi2`` (2, written in
+    the first-order ones, ``theta_2'``) of each dependent coordinate, by its plain symbol."""
+    eqs = equations(mechanism, scene)
+    return transmission.ratios(eqs) if order == 1 else transmission.second_ratios(eqs)
+
+
+def element_output(eqs, scene_name, name, elements):
+    """The force or moment element ``name`` records as an output (its own
+    :meth:`~mechdyn.declare.elements.Element.output`), in the plain symbols of ``eqs``."""
+    element = elements.get(name) if name in eqs.elements else None
+    if element is None:
+        raise SceneError(f"scene {scene_name!r}: output {name!r} is not an element of the "
+                         f"scene (elements: {list(eqs.elements)})")
+    value = element.output(eqs)
+    if value is None:
+        raise SceneError(f"scene {scene_name!r}: output {name!r}: a "
+                         f"{type(element).__name__.lower()} has no single force to record; "
+                         "ask for an expression instead")
+    return value
