@@ -194,7 +194,7 @@ def figure_html(fig, alt) -> str:
     """A matplotlib figure as an embedded PNG in a paragraph (the figure is closed)."""
     import base64
     import io
-    from mechdyn.table import escape
+    from mechdyn.tabular import escape
     buffer = io.BytesIO()
     fig.savefig(buffer, format="png", dpi=100)
     pyplot().close(fig)

@@ -25,7 +25,7 @@ from mechdyn.errors import SimulationError
 from mechdyn.derive.latex import derivation_latex, derivation_steps
 from mechdyn.symbols import plain
 from mechdyn.plotting import figure_html
-from mechdyn.table import JUPYTER_STYLE, escape
+from mechdyn.tabular import JUPYTER_STYLE, escape
 
 __all__ = ["report", "Report", "mechanism_html"]
 

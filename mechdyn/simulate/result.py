@@ -20,7 +20,7 @@ from mechdyn.errors import MechdynError
 from mechdyn.simulate.events import Event
 from mechdyn.simulate.mode_outputs import run_time_outputs
 from mechdyn.simulate.trajectory import Trajectory
-from mechdyn.table import JUPYTER_STYLE, Table, escape
+from mechdyn.tabular import JUPYTER_STYLE, Table, escape
 
 __all__ = ["Result", "Event", "Trajectory"]
 
