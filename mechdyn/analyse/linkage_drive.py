@@ -28,8 +28,10 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from mechdyn.derive import analytic
-from mechdyn.derive.analytic import AnalyticError, DrivingMoment, Motion, _exact
+from mechdyn.declare.parameters import exact_floats as _exact
+from mechdyn.derive import inverse
+from mechdyn.derive.analytic import AnalyticError
+from mechdyn.derive.inverse import DrivingMoment, Motion
 from mechdyn.symbols import t
 from mechdyn.derive.transmission import ratio_symbol, reduced_inertia_in_ratios
 
@@ -68,12 +70,12 @@ class LoopDrivingMoment(DrivingMoment):
 def driving_moment(mech, motion, params=None, scene=None, drive=None,
                    guess=None) -> DrivingMoment:
     """The driving moment a one-DOF machine needs to follow ``motion`` (inverse
-    dynamics): the closed form of :func:`mechdyn.derive.analytic.driving_moment` for open
+    dynamics): the closed form of :func:`mechdyn.derive.inverse.driving_moment` for open
     chains, :func:`loop_driving_moment` for closed loops (``guess``: the dependent
     coordinates near the start)."""
     if mech.constraints:
         return loop_driving_moment(mech, motion, params, scene, drive, guess)
-    return analytic.driving_moment(mech, motion, params, scene, drive, guess)
+    return inverse.driving_moment(mech, motion, params, scene, drive, guess)
 
 
 def loop_driving_moment(mech, motion, params=None, scene=None, drive=None, guess=None):

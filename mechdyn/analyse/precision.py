@@ -323,7 +323,7 @@ def _scale(states):
 
 def _closed_form_reference(mech, scene, params, points):
     """A closed-form reference, or ``(None, why not)``."""
-    from mechdyn.derive.analytic import closed_form
+    from mechdyn.derive.closed_form import closed_form
     compiled = mech.compile(scene)
     try:
         solution = closed_form(mech, scene, params)

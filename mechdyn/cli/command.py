@@ -34,7 +34,8 @@ def _equations(args):
 
 def _solution(model, scene, fmt):
     """The five-case classification and, for cases 1-3, the closed-form solution."""
-    from mechdyn.derive.analytic import classify, closed_form
+    from mechdyn.derive.analytic import classify
+    from mechdyn.derive.closed_form import closed_form
     from mechdyn.errors import SceneError
     if scene is None:
         raise SceneError(f"--solve needs --scene NAME (the initial state); scenes of "
