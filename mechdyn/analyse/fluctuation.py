@@ -46,7 +46,7 @@ from scipy.optimize import brentq, minimize_scalar
 from mechdyn.compile.compiler import compile_scene
 from mechdyn.errors import SceneError
 from mechdyn.declare.parameters import ParameterSet
-from mechdyn.analyse.periodic import Floquet, PeriodicError
+from mechdyn.analyse.shooting import Floquet, PeriodicError
 from mechdyn.symbols import t
 
 __all__ = ["SteadyRunning", "Flywheel", "steady_running", "flywheel", "applies"]

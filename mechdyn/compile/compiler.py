@@ -48,7 +48,8 @@ def _generator_hash() -> str:
     """A hash of the modules that shape generated code, so editing them voids the cache."""
     package = Path(__file__).parents[1]
     digest = hashlib.sha256()
-    for module in ("derive/lagrange.py", "compile/codegen.py", "compile/generate.py",
+    for module in ("derive/lagrange.py", "derive/terms.py", "compile/codegen.py",
+                   "compile/generate.py", "compile/mass_solve.py",
                    "compile/generated.py", "compile/compiler.py", "declare/elements.py",
                    "symbols.py", "compile/loop_code.py", "compile/output_code.py",
                    "declare/unilateral.py"):

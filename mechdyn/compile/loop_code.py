@@ -37,6 +37,7 @@ import sympy as sp
 
 from mechdyn.compile.loop_numeric import (LOOP_MARGIN, PIVOT_FLOOR, LoopSingularError, loop_solve,
                            numeric_jacobian, numeric_minors)
+from mechdyn.compile.mass_solve import _cholesky_lines, _solve_lines
 from mechdyn.symbols import t
 
 __all__ = ["LoopSingularError", "loop_sources", "numeric_jacobian", "numeric_minors",
@@ -100,7 +101,6 @@ def _factor_lines(n, m, lower, g, f, b):
     of the mass matrix's lower entries, the forcing, the gradients and the biases. Where
     a pivot of ``S`` vanishes (the loops lose rank) the result is NaN: a solver rejects
     the step, and the driver names the loop (:data:`LOOP_MARGIN`)."""
-    from mechdyn.compile.generate import _cholesky_lines, _solve_lines
     diagonal = [lower[(i, i)] for i in range(n) if lower[(i, i)] is not None]
     squares = [f"{e} * {e}" for row in g for e in row if e is not None]
     lines = [f"w = ({' + '.join(diagonal) or '0.0'}) / ({' + '.join(squares)})"]
