@@ -5,7 +5,8 @@ from pathlib import Path
 
 import pytest
 
-from mechdyn.cli import command as cli
+from mechdyn import cli
+from mechdyn.cli import model_commands
 
 ROOT = Path(__file__).resolve().parents[1]
 BRAKE = str(ROOT / "models" / "shoe_brake.py")
@@ -100,7 +101,7 @@ def test_a_failed_simulation_exits_1_and_keeps_the_partial_result(capsys, tmp_pa
 def test_an_internal_error_exits_3_with_a_hint(capsys, monkeypatch):
     def broken(args):
         raise RuntimeError("something mechdyn did not expect")
-    monkeypatch.setattr(cli, "_models", broken)
+    monkeypatch.setattr(model_commands, "_models", broken)
     status, _, err = run(capsys, "models")
     assert status == 3
     assert err.strip() == ("mechdyn: internal error: RuntimeError: something mechdyn did "

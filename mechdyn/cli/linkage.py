@@ -14,7 +14,7 @@ __all__ = ["add_linkage_command"]
 
 
 def _linkage(args):
-    from mechdyn.cli.command import _params
+    from mechdyn.cli.arguments import _params
     from mechdyn.analyse.joint_reactions import kinetostatics
     from mechdyn.analyse.linkage import Linkage
     from mechdyn.analyse.linkage_plots import revolution
@@ -57,7 +57,7 @@ def _linkage(args):
 
 
 def add_linkage_command(commands):
-    from mechdyn.cli.command import _model_argument, _param_argument
+    from mechdyn.cli.arguments import _model_argument, _param_argument
     from mechdyn.parse import number
     linkage = commands.add_parser(
         "linkage", help="closed loops: transmission functions, I_red, toggles, joint forces",

@@ -1,0 +1,269 @@
+"""Commands over a model or a parameter grid: ``models``, ``sweep``, ``characteristic``,
+``animate``.
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+from mechdyn.errors import MechdynError
+from mechdyn.cli.arguments import (_model_argument, _param_argument, _params, _progress_argument, _sample_argument, _scene_argument, _scene_inputs, _seconds, _units_argument, _whole_number)
+from mechdyn.cli.arguments import EXIT_FAILED, EXIT_OK, EXIT_USAGE
+from mechdyn.cli.scene_commands import _progress
+
+
+def _models(args):
+    from pathlib import Path
+
+    from mechdyn.declare.model_file import load_model
+    folder = Path(args.folder)
+    if not folder.is_dir():
+        raise MechdynError(f"no folder {folder} in {Path.cwd()}; give the folder of "
+                           "model files: mechdyn models DIR (the bundled models are in "
+                           "the models/ folder of mechdyn's repository)")
+    files = sorted(p for p in folder.glob("*.py") if not p.name.startswith("_"))
+    if not files:
+        raise MechdynError(f"{folder} holds no model files (*.py)")
+    broken = 0
+    for path in files:
+        try:
+            model = load_model(path)
+        except MechdynError as error:
+            broken += 1
+            reason = " ".join(str(error).split())
+            if reason.startswith(str(path)):
+                reason = reason[len(str(path)):].lstrip(":, ")
+            print(f"{path}  cannot be loaded: {reason}")
+            continue
+        summary = " ".join(model.doc.split("\n\n")[0].split()) or model.mechanism.name
+        print(f"{path}  {summary}\n    scenes: {', '.join(model.scenes) or 'none'}")
+    return EXIT_USAGE if broken else EXIT_OK
+
+
+def _add_models_command(commands):
+    models = commands.add_parser(
+        "models", help="list model files with their scenes and descriptions",
+        description="List the model files of a folder: the first line of each file's "
+        "docstring (its first paragraph) and its scenes.",
+        epilog="examples:\n  mechdyn models            (the models/ folder here)\n"
+        "  mechdyn models ~/my_machines", formatter_class=argparse.RawDescriptionHelpFormatter)
+    models.add_argument("folder", nargs="?", default="models", metavar="DIR",
+                        help="folder of model files (default: models)")
+    models.set_defaults(run=_models)
+
+
+def _grid_axis(model, text, max_points):
+    """``name=start:stop:count`` (evenly spaced) or ``name=v1,v2,...`` -> (name, SI
+    values); a unit after the values applies to all of them (``P=1:3:3 kN``), else
+    every value or none carries one (``P=500 N,2 kN``). A count above ``max_points`` is
+    refused before any value is made."""
+    import re
+
+    import numpy as np
+
+    from mechdyn.declare.parameters import to_number
+    from mechdyn.parse import ValueTextError, number
+    name, sep, values = text.partition("=")
+    if not sep or not name.strip().isidentifier():
+        raise ValueTextError(f"--grid {text!r}: expected name=start:stop:count or "
+                             "name=v1,v2,..., e.g. P=10:100:50 or P=1:3:3 kN")
+    name = str(model.param_symbol(name.strip()))
+    declared = model.mechanism.parameter_units.get(name)
+    common = re.fullmatch(r"\s*(\S+)\s+([^,:]+?)\s*", values)
+    body, unit = (common.group(1), common.group(2)) if common else (values, "")
+
+    def value(part):
+        try:
+            return to_number(name, f"{part} {unit}" if unit else part, declared)
+        except MechdynError as error:
+            raise ValueTextError(f"--grid {text!r}: {error}") from None
+    parts = body.split(":") if ":" in body else body.split(",")
+    with_unit = [_has_unit(part) for part in parts] if not unit else []
+    if any(with_unit) and not all(with_unit[:2 if ":" in body else None]):
+        raise ValueTextError(f"--grid {text!r}: some values carry a unit and others do "
+                             "not (bare numbers are SI); give every value its unit or one "
+                             "unit after all of them, e.g. P=10,20,50 kN")
+    if ":" not in body:
+        return name, [value(part) for part in parts]
+    if len(parts) != 3:
+        raise ValueTextError(f"--grid {text!r}: expected start:stop:count")
+    start, stop = value(parts[0]), value(parts[1])
+    try:
+        count = number(parts[2])
+    except ValueTextError as error:
+        raise ValueTextError(f"--grid {text!r}: count: {error}") from None
+    if count != int(count) or count < 1:
+        raise ValueTextError(f"--grid {text!r}: count must be a whole number >= 1")
+    if count > max_points:
+        raise ValueTextError(f"--grid {text!r}: {count:,.0f} values, more than "
+                             f"--max-points {max_points:,}")
+    return name, list(np.linspace(start, stop, int(count)))
+
+
+def _has_unit(text) -> bool:
+    from mechdyn.parse import ValueTextError, quantity
+    try:
+        return bool(quantity(text)[1])
+    except ValueTextError:
+        return False                    # its own error comes when it is read
+
+
+def _sweep(args):
+    from contextlib import ExitStack
+
+    from mechdyn.analyse.sweeps import sweep
+    model, scene, params = _scene_inputs(args)
+    grid = dict(_grid_axis(model, text, args.max_points) for text in args.grid)
+    with ExitStack() as stack:
+        executor = None
+        if args.dask:
+            executor = stack.enter_context(_dask_client(args.dask)).get_executor()
+        table = sweep(model.mechanism, scene, params, grid, executor, out=args.out,
+                      workers=args.workers, max_points=args.max_points, fresh=args.fresh,
+                      wait=args.wait)
+    y = args.y or table.default_y
+    if y not in table.columns:
+        raise MechdynError(f"--y {y!r}: not a column ({', '.join(table.columns)})")
+    shown = table.parameters + [y] + (["t_end"] if y != "t_end" else [])
+    print("  ".join(f"{c:>14}" for c in shown) + "  reason or error")
+    for row in table.rows:
+        cells = "  ".join(f"{row[c]:>14.6g}" for c in shown)
+        print(f"{cells}  {row['error'] or row['reason']}")
+    if args.out:
+        print(f"wrote {args.out}")
+    if args.plot:
+        table.plot(y, args.plot)
+        print(f"wrote {args.plot}")
+    if table.failed:
+        print(f"mechdyn: {len(table.failed)} of {len(table)} points failed", file=sys.stderr)
+        return EXIT_FAILED
+    return EXIT_OK
+
+
+def _dask_client(address):
+    try:
+        from distributed import Client
+    except ImportError:
+        raise MechdynError("--dask needs dask.distributed: pip install 'mechdyn[dask]'") from None
+    try:
+        return Client(address, timeout=30)
+    except (OSError, TimeoutError) as error:
+        raise MechdynError(f"--dask {address}: cannot reach the scheduler ({error})") from None
+
+
+def _add_sweep_command(commands):
+    from mechdyn.analyse.sweep_file import MAX_POINTS
+    sweep = commands.add_parser(
+        "sweep", help="simulate a scene over a grid of parameter values",
+        description="Simulate a scene at every point of a parameter grid (all combinations "
+        "of the --grid axes), deriving and compiling once. Rows stream to --out as points "
+        "finish; rerun with the same --out to resume after an interruption.",
+        epilog="examples:\n"
+        "  mechdyn sweep models/shoe_brake.py --scene braking --grid P=10:100:10 "
+        "--plot stop.png\n"
+        "  mechdyn sweep models/hoist_drive.py --scene lift_start --grid E_k=2e6:8e6:4 "
+        "--grid d_r=500,1100 --y peak:rope --out hoist.csv --workers 2\n"
+        "  mechdyn sweep models/shoe_brake.py --scene braking --grid P=10:100:1000 "
+        "--dask tcp://scheduler:8786 --out brake.csv\n\n"
+        "columns: the swept parameters, t_end, reason, final:STATE per coordinate and "
+        "speed, peak:OUTPUT per output, error\n"
+        "exit status 1 if any point failed (its row holds the error; the others are kept)",
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    _model_argument(sweep)
+    _scene_argument(sweep)
+    sweep.add_argument("--grid", action="append", required=True,
+                       metavar="NAME=START:STOP:COUNT",
+                       help="a swept parameter: COUNT evenly spaced values, or NAME=V1,V2,...; "
+                       "repeatable (full factorial)")
+    _param_argument(sweep)
+    where = sweep.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=_whole_number, metavar="N",
+                       help="local worker processes (default: all cores)")
+    where.add_argument("--dask", metavar="ADDRESS",
+                       help="run on a Dask cluster, e.g. tcp://host:8786 (needs mechdyn[dask])")
+    sweep.add_argument("--out", metavar="FILE.csv", help="stream the rows to this file "
+                       "(an existing file of the same sweep is resumed; FILE.csv.meta.json "
+                       "records the sweep, FILE.csv.lock keeps other sweeps out)")
+    sweep.add_argument("--fresh", action="store_true",
+                       help="discard the rows of an existing --out file instead of resuming")
+    sweep.add_argument("--wait", type=_seconds, default=0.0, metavar="SECONDS",
+                       help="wait this long for another sweep writing --out (default: "
+                       "stop at once)")
+    sweep.add_argument("--max-points", type=_whole_number, default=MAX_POINTS, metavar="N",
+                       help=f"refuse grids with more points (default {MAX_POINTS:,})")
+    sweep.add_argument("--plot", metavar="FILE.png",
+                       help="plot --y against the first swept parameter")
+    sweep.add_argument("--y", metavar="COLUMN", help="the column to show and plot "
+                       "(default: t_end if the scene stops, else the first peak)")
+    sweep.set_defaults(run=_sweep)
+
+
+def _characteristic(args):
+    from mechdyn.analyse.characteristics import characteristic
+    from mechdyn.declare.model_file import load_model
+    model = load_model(args.model)
+    scene = model.scene(args.scene) if args.scene else None
+    curves = characteristic(model.mechanism, scene, _params(model, scene, args.param),
+                            drive=args.drive)
+    print(curves.summary(args.units))
+    if args.plot:
+        curves.plot(args.plot, units=args.units)
+        print(f"wrote {args.plot}")
+    return EXIT_OK
+
+
+def _add_characteristic_command(commands):
+    command = commands.add_parser(
+        "characteristic", help="motor and load characteristics, operating points, stability",
+        description="Draw the drive's moment M(omega) against the reduced moment of the "
+        "load (the mean over a cycle where it depends on the position) for a one-DOF "
+        "machine, and list the operating points where they balance: stable where "
+        "dM_motor/domega < dM_load/domega.",
+        epilog="examples:\n"
+        "  mechdyn characteristic models/motor_startup.py --scene startup --plot ml.png\n"
+        "  mechdyn characteristic models/press_flywheel.py --scene steady --units speed=rpm "
+        "--plot press.png", formatter_class=argparse.RawDescriptionHelpFormatter)
+    _model_argument(command)
+    _scene_argument(command, required=False)
+    _param_argument(command)
+    command.add_argument("--drive", metavar="NAME", help="the driving load (name or tag; "
+                         "default: the load named or tagged motor)")
+    command.add_argument("--plot", metavar="FILE.png", help="save the characteristics")
+    _units_argument(command)
+    command.set_defaults(run=_characteristic)
+
+
+def _animate(args):
+    from mechdyn.report.animation import animate
+    model, scene, params = _scene_inputs(args)
+    with _progress(args) as progress:
+        if progress is not None:
+            progress.t_start = scene.t_start
+        result = model.mechanism.simulate(scene, params, progress=progress)
+    film = animate(model.mechanism, result, params, args.out, sample=args.sample,
+                   fps=args.fps)
+    print(f"wrote {film.path}: {film.frames} frames, every {film.times[1] - film.times[0]:.4g} "
+          f"s of the motion at {film.fps:g} frames per second" if film.frames > 1 else
+          f"wrote {film.path}: 1 frame")
+    return EXIT_OK
+
+
+def _add_animate_command(commands):
+    command = commands.add_parser(
+        "animate", help="draw the links over the simulated motion into a GIF",
+        description="Simulate a scene and draw its links (their declared points, or the "
+        "centre of mass with a tick along the link's angle) frame by frame into a GIF: "
+        "one frame per --sample seconds of the motion (default 1/fps: real time).",
+        epilog="examples:\n"
+        "  mechdyn animate models/slider_crank.py --scene startup --out crank.gif\n"
+        "  mechdyn animate models/scotch_yoke.py --scene startup --out yoke.gif "
+        "--sample 0.01 --fps 20", formatter_class=argparse.RawDescriptionHelpFormatter)
+    _model_argument(command)
+    _scene_argument(command)
+    _param_argument(command)
+    command.add_argument("--out", metavar="FILE.gif", default="animation.gif",
+                         help="the GIF to write (default animation.gif)")
+    _sample_argument(command)
+    command.add_argument("--fps", type=float, default=25.0,
+                         help="frames per second of the GIF (default 25)")
+    _progress_argument(command)
+    command.set_defaults(run=_animate)
