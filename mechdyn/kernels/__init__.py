@@ -1,9 +1,10 @@
 """Compiled ODE integration kernels (numba): DOP853 and Rodas5P with dense output,
 event location and stiffness-switch tests, driven in chunks from Python.
 
-Import cost: numba (about 0.2 s), numba's one-time initialisation and the cached kernel
-(about 0.4 s together); nothing else in mechdyn imports this package. The first import
-after installing or editing a kernel module compiles the kernel (10-20 s).
+Import cost: numba, its one-time initialisation and the cached kernel (measured by
+``benchmarks/process.py``); nothing in mechdyn imports this package until a run uses the
+compiled backend. The first import after installing or editing a kernel module compiles
+the kernel.
 
 Model functions (see :mod:`.functions`) are numba functions with the signatures
 ``RHS_SIGNATURE`` / ``JAC_SIGNATURE`` / ``EVENTS_SIGNATURE``; :func:`model_functions`
