@@ -115,7 +115,7 @@ def test_release_time_reference_is_where_the_force_reaches_the_capacity():
     assert speed_after_release(T_RELEASE + 0.2) > 0
 
 
-@pytest.mark.parametrize("t_end", [0.6, 50.0, 1000.0])
+@pytest.mark.parametrize("t_end", [0.6, 50.0, pytest.param(1000.0, marks=pytest.mark.slow)])
 def test_stuck_mass_releases_when_the_force_first_exceeds_the_capacity_whatever_t_end(t_end):
     # While stuck the solver may take long steps; the release must still be found at the
     # first crossing, the same for every t_end.
