@@ -15,7 +15,6 @@ from scipy.special import ellipk
 import mechdyn as md
 
 q = md.coordinate("q")
-REWRITE = "issue 20.1: fixed by the simulation driver rewrite"
 
 
 def oscillator():
@@ -35,17 +34,22 @@ def stop_time(condition, q0, u0):
 
 cos_t, minus_cos_t = sp.cos(md.t), -sp.cos(md.t)
 
+# mechdyn bug (found reconciling issue 20 with the segment driver): a stop condition of t
+# alone is evaluated only at the ends of the solver's steps, and nothing bounds the step
+# by it. With the state at rest the error estimate is zero, the steps grow tenfold
+# (1.1 s -> 10 s) and skip the first crossings; Illinois then locates a later one.
+TIME_ONLY_SKIPPED = pytest.mark.xfail(strict=True, reason=(
+    "mechdyn bug: a stop condition of t alone is checked only at step ends and does not "
+    "bound the step (segments.py scipy_runner: max_step only for stuck segments; "
+    "generate.py _forcing_periods ignores stop conditions); crossings are skipped"))
+
 # (expression, initial state giving q = that expression, direction, expected stop time)
 FROM_ABOVE = [(+1, 5 * math.pi / 3), (-1, math.pi / 3), (0, math.pi / 3)]
 FROM_BELOW = [(+1, 2 * math.pi / 3), (-1, 4 * math.pi / 3), (0, 2 * math.pi / 3)]
 
 
-def _marks(direction, wrong_today):
-    return [pytest.mark.xfail(strict=True, reason=REWRITE)] if direction == wrong_today else []
-
-
 @pytest.mark.parametrize("direction, expected", [
-    pytest.param(d, e, marks=_marks(d, +1), id=f"direction {d:+d}") for d, e in FROM_ABOVE])
+    pytest.param(d, e, id=f"direction {d:+d}") for d, e in FROM_ABOVE])
 def test_coordinate_starting_above_the_value_stops_at_the_crossing_in_its_direction(
         direction, expected):
     # q = cos t starts at 1 > 1/2.
@@ -54,7 +58,7 @@ def test_coordinate_starting_above_the_value_stops_at_the_crossing_in_its_direct
 
 
 @pytest.mark.parametrize("direction, expected", [
-    pytest.param(d, e, marks=_marks(d, -1), id=f"direction {d:+d}") for d, e in FROM_BELOW])
+    pytest.param(d, e, id=f"direction {d:+d}") for d, e in FROM_BELOW])
 def test_coordinate_starting_below_the_value_stops_at_the_crossing_in_its_direction(
         direction, expected):
     # q = -cos t starts at -1 < 1/2.
@@ -62,22 +66,27 @@ def test_coordinate_starting_below_the_value_stops_at_the_crossing_in_its_direct
         pytest.approx(expected, rel=1e-8)
 
 
-@pytest.mark.parametrize("expression, crossings, wrong_today", [
-    (cos_t, FROM_ABOVE, +1), (minus_cos_t, FROM_BELOW, -1)], ids=["cos t", "-cos t"])
-@pytest.mark.parametrize("which", [0, 1, 2])
+def _time_only_cases():
+    # cos t: the first (falling) crossing at pi/3 comes before the solver's long steps
+    # start; every case whose crossing comes later is skipped today.
+    for name, expression, crossings in (("cos t", cos_t, FROM_ABOVE),
+                                        ("-cos t", minus_cos_t, FROM_BELOW)):
+        for direction, expected in crossings:
+            marks = [TIME_ONLY_SKIPPED] if expected > 1.2 else []
+            yield pytest.param(expression, direction, expected, marks=marks,
+                               id=f"{name} direction {direction:+d}")
+
+
+@pytest.mark.parametrize("expression, direction, expected", list(_time_only_cases()))
 def test_expression_of_time_stops_at_the_crossing_in_its_direction(
-        expression, crossings, wrong_today, which, request):
+        expression, direction, expected):
     # The condition need not involve the state: an expression of md.t alone, integrated
     # alongside a system at rest.
-    direction, expected = crossings[which]
-    if direction == wrong_today:
-        request.applymarker(pytest.mark.xfail(strict=True, reason=REWRITE))
     assert stop_time(md.reaches(expression, 0.5, direction=direction), 0, 0) == \
         pytest.approx(expected, rel=1e-8)
 
 
 # ------------------------------------------------------------ met exactly at the start
-@pytest.mark.xfail(strict=True, reason=REWRITE)
 @pytest.mark.parametrize("direction, expected", [(+1, 2 * math.pi), (-1, math.pi),
                                                  (0, math.pi)])
 def test_condition_met_at_the_start_stops_at_its_next_crossing(direction, expected):
@@ -87,10 +96,19 @@ def test_condition_met_at_the_start_stops_at_its_next_crossing(direction, expect
         pytest.approx(expected, rel=1e-8)
 
 
-@pytest.mark.xfail(strict=True, reason=REWRITE)
+@TIME_ONLY_SKIPPED
 @pytest.mark.parametrize("direction, expected", [(+1, 2 * math.pi), (-1, math.pi)])
 def test_expression_of_time_met_at_the_start_stops_at_its_next_crossing(direction, expected):
     assert stop_time(md.reaches(sp.sin(md.t), 0, direction=direction), 0, 0) == \
+        pytest.approx(expected, rel=1e-8)
+
+
+@pytest.mark.parametrize("direction, expected", [(+1, 2 * math.pi / 3),
+                                                 (-1, 4 * math.pi / 3)])
+def test_expression_of_time_stops_at_its_crossing_while_the_state_moves(direction, expected):
+    # The same -cos t = 1/2 crossings (2 pi/3 rising, 4 pi/3 falling) with the oscillator
+    # swinging (q = sin t): the motion keeps the steps short, and the crossings are found.
+    assert stop_time(md.reaches(minus_cos_t, 0.5, direction=direction), 0, 1) == \
         pytest.approx(expected, rel=1e-8)
 
 
@@ -101,7 +119,6 @@ def pendulum():
     return mech
 
 
-@pytest.mark.xfail(strict=True, reason=REWRITE)
 @pytest.mark.parametrize("amplitude", [0.5, 2.0])
 def test_pendulum_released_from_rest_runs_to_its_next_turning_point(amplitude):
     # stopped(q) is met at the release (speed 0). The run ends at the next turning point,

@@ -12,7 +12,6 @@ import mechdyn as md
 
 phi = md.coordinate("phi")
 t = md.t
-REWRITE = "issue 20.2: fixed by the simulation driver rewrite (issue 14 defect {})"
 
 
 def shaft(load, capacity, inertia=1):
@@ -61,7 +60,6 @@ def test_held_shaft_never_moves_while_the_load_stays_just_below_the_capacity():
     assert slips(res) == [] and np.all(res[phi] == 0.0)
 
 
-@pytest.mark.xfail(strict=True, reason=REWRITE.format(1))
 def test_friction_with_zero_capacity_at_rest_releases_when_a_load_appears():
     # A clutch not yet pressed (capacity 10 max(0, t - 5): zero over the whole run) on a
     # shaft at rest. The load 10 max(0, t - 1) meets no resistance: from t = 1,
@@ -72,7 +70,6 @@ def test_friction_with_zero_capacity_at_rest_releases_when_a_load_appears():
     assert all(e.time == pytest.approx(1.0, abs=1e-8) for e in slips(res))
 
 
-@pytest.mark.xfail(strict=True, reason=REWRITE.format(1))
 def test_friction_with_zero_capacity_releases_at_a_step_of_the_load():
     # Same clutch, load stepping from 0 to 20 at t = 1: omega(3) = 20 * 2 = 40.
     res = run(shaft(sp.Piecewise((0, t < 1), (20, True)), 10 * sp.Max(0, t - 5)), 3)
@@ -80,15 +77,14 @@ def test_friction_with_zero_capacity_releases_at_a_step_of_the_load():
     assert res.final(phi) == pytest.approx(40.0, rel=1e-9)
 
 
-@pytest.mark.parametrize("sign", [
-    pytest.param(+1, marks=pytest.mark.xfail(strict=True, reason=REWRITE.format(2))), -1])
+@pytest.mark.parametrize("sign", [+1, -1])
 def test_release_at_a_step_of_the_load_slides_the_way_the_load_pushes_after_the_step(sign):
     # Brake 5, load stepping from 0 to 20 at t = 1. The holding moment jumps from 0 to 20
     # there; the brake releases at the step and slides the way the load pushes:
     # J omega' = 20 - 5 from t = 1, omega(3) = 30, phi(3) = 15 * 2^2 / 2 = 30. Sliding the
-    # other way first would add a spurious slip event and a stick. (Today, forward: the
-    # release is located just before the step, where the holding moment is 0, and the
-    # brake slides backward for good, pushing the shaft forward: omega(3) = 50.)
+    # other way first would add a spurious slip event and a stick (the old driver located
+    # the release just before the step, where the holding moment is 0, and slid backward
+    # for good: omega(3) = 50).
     res = run(shaft(sign * sp.Piecewise((0, t < 1), (20, True)), 5), 3)
     assert [e.time for e in slips(res)] == [pytest.approx(1.0, abs=1e-8)]
     assert [e.kind for e in res.events] == ["slip"]
@@ -119,10 +115,7 @@ def test_release_time_reference_is_where_the_force_reaches_the_capacity():
     assert speed_after_release(T_RELEASE + 0.2) > 0
 
 
-@pytest.mark.parametrize("t_end", [
-    0.6,
-    pytest.param(50.0, marks=pytest.mark.xfail(strict=True, reason=REWRITE.format(3))),
-    pytest.param(1000.0, marks=pytest.mark.xfail(strict=True, reason=REWRITE.format(3)))])
+@pytest.mark.parametrize("t_end", [0.6, 50.0, pytest.param(1000.0, marks=pytest.mark.slow)])
 def test_stuck_mass_releases_when_the_force_first_exceeds_the_capacity_whatever_t_end(t_end):
     # While stuck the solver may take long steps; the release must still be found at the
     # first crossing, the same for every t_end.
