@@ -51,9 +51,6 @@ def test_a_division_by_zero_raises_instead_of_giving_inf():
         c.rhs(0.0, np.array([0.0, 1.0]), c.parameter_vector(VALUES))
 
 
-@pytest.mark.xfail(strict=True, raises=ZeroDivisionError, reason=(
-    "mechdyn bug: driver.run evaluates c.terms at the start unguarded (driver.py:83), "
-    "so a start where the equations divide by zero escapes as a bare ZeroDivisionError"))
 def test_a_start_where_the_equations_divide_by_zero_is_a_named_error():
     scene = md.Scene("s", initial={x: 0, md.speed(x): 0}, t_end=1)
     with pytest.raises(md.MechdynError, match="x = 0"):

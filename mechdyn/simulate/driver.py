@@ -80,7 +80,7 @@ class Driver:
         reason = "t_end"
         try:
             domains = self._domains = self._check_domains(t, y, self.modes.p(Mode()))
-            terms = self.c.terms(t, y, self.modes.p(Mode()))
+            terms = self._start_terms(t, y)
             self.mass_scale = check_mass(self.c, terms, t, y)
             muted, instant, count, h = set(), None, 0, None
             y, touching, resting = jump(self.modes, t, y, None, (), self.events)
@@ -361,6 +361,17 @@ class Driver:
         if now - self.last_report >= 0.25:
             self.last_report = now
             self.progress(t, t_end)
+
+    def _start_terms(self, t, y):
+        """The equations' terms at the start; a start where they cannot be evaluated
+        (a division by zero, a logarithm of zero) is a named error, not a traceback."""
+        try:
+            return self.c.terms(t, y, self.modes.p(Mode()))
+        except (ArithmeticError, ValueError) as error:
+            raise SimulationError(
+                f"scene {self.scene.name!r}: the equations cannot be evaluated at the start "
+                f"(t = {t:.6g} s, {state_text(self.c, y)}): {type(error).__name__}: "
+                f"{error}") from None
 
     def _max_step(self):
         """The longest step of a segment with stuck elements, where the state barely
