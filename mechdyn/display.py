@@ -19,7 +19,7 @@ import numpy as np
 
 from mechdyn.errors import MechdynError
 
-__all__ = ["KINDS", "Display", "column_units", "kind_of"]
+__all__ = ["KINDS", "Display", "column_units", "kind_of", "cost_line"]
 
 # kind -> its SI unit (the text columns carry)
 KINDS = {"angle": "rad", "speed": "rad/s", "acceleration": "rad/s^2", "length": "m",
@@ -93,3 +93,9 @@ def column_units(result) -> dict:
 
 def _per(unit, time):
     return f"{unit}/{time}" if unit not in ("", "1") else f"1/{time}"
+
+
+def cost_line(stats) -> str:
+    """What a run cost, from its ``stats``: method, steps, RHS calls, Jacobians, time."""
+    return (f"{stats['method']}: {stats['steps']} steps, {stats['nfev']} RHS calls, "
+            f"{stats.get('njev', 0)} Jacobians, {stats.get('wall_time', 0) * 1e3:.1f} ms")

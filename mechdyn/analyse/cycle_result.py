@@ -281,7 +281,7 @@ class CycleResult:
         """Per phase: time span and why it ended, each coordinate's travel, speed at
         start and end and peak, each output's peak and end value, the energy (T, V and
         the work of each element), the events; then the cost."""
-        from mechdyn.display import Display, column_units
+        from mechdyn.display import Display, column_units, cost_line
         shown, si = Display(units), column_units(self)
         shown.check(si)
         n = len(self.coordinates)
@@ -308,9 +308,7 @@ class CycleResult:
             lines.append(f"    energy: {p.energy}")
             for e in r.events:
                 lines.append(f"    {Event(e.time + p.offset, e.kind, e.name, e.detail)}")
-        s = self.stats
-        lines.append(f"  {s['method']}: {s['steps']} steps, {s['nfev']} RHS calls, "
-                     f"{s['njev']} Jacobians, {s['wall_time'] * 1e3:.1f} ms")
+        lines.append(f"  {cost_line(self.stats)}")
         return "\n".join(lines)
 
     def __repr__(self):

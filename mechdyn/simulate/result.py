@@ -279,7 +279,7 @@ class Result:
     def summary(self, units=None) -> str:
         """A few lines: how it ended, final and peak values, events, cost. ``units``
         shows columns in other units (``{"speed": "rpm", "power": "kW"}``)."""
-        from mechdyn.display import Display, column_units
+        from mechdyn.display import Display, column_units, cost_line
         shown, si = Display(units), column_units(self)
         shown.check(si)
         lines = [f"{self.mechanism_name} — scene {self.scene.name!r}: ended at "
@@ -302,9 +302,7 @@ class Result:
             lines.append(f"  {label}: peak {values[1]:.6g}{unit}, final {values[0]:.6g}{unit}")
         for event in self.events:
             lines.append(f"  {event}")
-        s = self.stats
-        lines.append(f"  {s['method']}: {s['steps']} steps, {s['nfev']} RHS calls, "
-                     f"{s.get('njev', 0)} Jacobians, {s.get('wall_time', 0) * 1e3:.1f} ms")
+        lines.append(f"  {cost_line(self.stats)}")
         return "\n".join(lines)
 
     def __repr__(self):
