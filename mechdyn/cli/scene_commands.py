@@ -7,18 +7,22 @@ import argparse
 from pathlib import Path
 import sys
 from mechdyn.errors import SimulationError
-from mechdyn.cli.arguments import (_model_argument, _param_argument, _params, _plot, _progress_argument, _quantity, _sample_argument, _scene_argument, _scene_inputs, _units_argument)
+from mechdyn.cli.arguments import (_model_argument, _param_argument, _params, _plot, _progress_argument, _quantity, _sample_argument, _seconds, _scene_argument, _scene_inputs, _units_argument)
 from mechdyn.cli.arguments import EXIT_FAILED, EXIT_OK
 
 
 def _equations(args):
     from mechdyn.derive.latex import derivation_latex, derivation_text
+    from mechdyn.derive.textbook import Budget
     from mechdyn.declare.model_file import load_model
     model = load_model(args.model)
     scene = model.scene(args.scene) if args.scene else None
     eqs = model.mechanism.equations(scene)
     solution = _solution(model, scene, args.format) if args.solve else None
-    print(derivation_latex(eqs) if args.format == "latex" else derivation_text(eqs))
+    budget = Budget(args.budget, lambda message: print(f"mechdyn: {message} ...",
+                                                       file=sys.stderr, flush=True))
+    write = derivation_latex if args.format == "latex" else derivation_text
+    print(write(eqs, expanded=args.expanded, budget=budget))
     if solution:
         print(solution)
     return 0
@@ -105,11 +109,18 @@ def _add_equations_command(commands):
         epilog="examples:\n"
         "  mechdyn equations models/scotch_yoke.py\n"
         "  mechdyn equations models/motor_startup.py --scene braking --format text\n"
-        "  mechdyn equations models/shoe_brake.py --scene braking --solve",
+        "  mechdyn equations models/shoe_brake.py --scene braking --solve\n"
+        "  mechdyn equations models/slider_crank.py --expanded",
         formatter_class=argparse.RawDescriptionHelpFormatter)
     _model_argument(equations)
     equations.add_argument("--format", choices=["latex", "text"], default="latex",
                            help="LaTeX (default) or plain text")
+    equations.add_argument("--expanded", action="store_true",
+                           help="write every term out in the coordinates (default: "
+                           "positions and transmission functions as named quantities)")
+    equations.add_argument("--budget", type=_seconds, default=10.0, metavar="SECONDS",
+                           help="time for simplification; later expressions are printed "
+                           "as derived (default 10)")
     equations.add_argument("--scene", help="only the effects this scene calls for")
     equations.add_argument("--solve", action="store_true",
                            help="classify (five cases) and print the closed-form solution "
