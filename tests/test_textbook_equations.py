@@ -6,6 +6,7 @@ import os
 import re
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -13,7 +14,6 @@ import pytest
 import sympy as sp
 
 import mechdyn as md
-from mechdyn.derive.textbook import Budget
 
 ROOT = Path(__file__).resolve().parents[1]
 USER_MODEL = ROOT / "tests" / "data" / "slider_crank_flywheel.py"
@@ -147,12 +147,23 @@ def test_expanded_form_writes_every_term_in_the_coordinates():
     assert "\\sin" in inertia and "prime" not in latex
 
 
-def test_a_spent_budget_is_said_and_announced():
-    model = md.load_model(USER_MODEL)
-    said = []
-    from mechdyn.derive.latex import derivation_text
-    text = derivation_text(model.mechanism.equations(), budget=Budget(0, said.append, 0))
+def test_a_spent_budget_is_said_and_the_expressions_print_as_derived():
+    text = _equations(USER_MODEL, "--format", "text", "--budget", "0")
     assert "simplification stopped after the budget of 0 s" in text
-    assert len(said) == 1 and "simplifying the derivation" in said[0]
-    # as derived, still the same named structure
     assert re.search(r"reduced inertia: +I_red = J_f \+ m_s\*x_slider'\*\*2", text)
+    derivative = next(line for line in text.splitlines() if "x_slider' =" in line)
+    assert derivative.endswith("= -r**2*sin(phi)*cos(phi)/sqrt(L**2 - r**2*sin(phi)**2) - r*sin(phi)")
+
+
+def test_a_long_derivation_is_announced_on_stderr(capsys):
+    from mechdyn.cli.scene_commands import announced
+    with announced("deriving", after=0.0):
+        for _ in range(500):                 # wait for the timer thread, at most 5 s
+            if "deriving" in capsys.readouterr().err:
+                break
+            time.sleep(0.01)
+        else:
+            pytest.fail("no announcement")
+    with announced("quick", after=60.0):
+        pass
+    assert capsys.readouterr().err == ""

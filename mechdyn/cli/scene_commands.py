@@ -4,8 +4,10 @@ warm start), ``precision``, ``periodic``, ``report``.
 from __future__ import annotations
 
 import argparse
+from contextlib import contextmanager
 from pathlib import Path
 import sys
+import threading
 from mechdyn.errors import SimulationError
 from mechdyn.cli.arguments import (_model_argument, _param_argument, _params, _plot, _progress_argument, _quantity, _sample_argument, _seconds, _scene_argument, _scene_inputs, _units_argument)
 from mechdyn.cli.arguments import EXIT_FAILED, EXIT_OK
@@ -17,15 +19,29 @@ def _equations(args):
     from mechdyn.declare.model_file import load_model
     model = load_model(args.model)
     scene = model.scene(args.scene) if args.scene else None
-    eqs = model.mechanism.equations(scene)
-    solution = _solution(model, scene, args.format) if args.solve else None
-    budget = Budget(args.budget, lambda message: print(f"mechdyn: {message} ...",
-                                                       file=sys.stderr, flush=True))
     write = derivation_latex if args.format == "latex" else derivation_text
-    print(write(eqs, expanded=args.expanded, budget=budget))
+    with announced(f"deriving and simplifying the equations of {model.mechanism.name!r} "
+                   f"(at most {args.budget:g} s of simplification; --budget)"):
+        eqs = model.mechanism.equations(scene)
+        solution = _solution(model, scene, args.format) if args.solve else None
+        text = write(eqs, expanded=args.expanded, budget=Budget(args.budget))
+    print(text)
     if solution:
         print(solution)
     return 0
+
+
+@contextmanager
+def announced(message, after=1.0):
+    """Say ``message`` on stderr if the block takes longer than ``after`` seconds."""
+    timer = threading.Timer(after, lambda: print(f"mechdyn: {message} ...", file=sys.stderr,
+                                                 flush=True))
+    timer.daemon = True
+    timer.start()
+    try:
+        yield
+    finally:
+        timer.cancel()
 
 
 def _solution(model, scene, fmt):

@@ -46,38 +46,38 @@ def _derivation(eqs, expanded, budget) -> list:
                                for q in expr.atoms(AppliedUndef)})
         name = c.func.__name__
         steps.append(("rigid", sp.latex(sp.Symbol(name)), name, plain))
-    steps.append(("kinetic energy", "T", "T", budget.tidy(eqs.kinetic_energy, "T")))
+    steps.append(("kinetic energy", "T", "T", budget.tidy(eqs.kinetic_energy)))
     if eqs.potential_energy != 0:
-        steps.append(("potential energy", "V", "V", budget.tidy(eqs.potential_energy, "V")))
+        steps.append(("potential energy", "V", "V", budget.tidy(eqs.potential_energy)))
     if eqs.dissipation != 0:
-        steps.append(("dissipation", "D", "D", budget.tidy(eqs.dissipation, "D")))
+        steps.append(("dissipation", "D", "D", budget.tidy(eqs.dissipation)))
     for name, column in eqs.generalized_forces.items():
         for qi, entry in zip(eqs.q, column):
             if entry != 0:
                 label = f"Q_{{\\text{{{name}}}, {sp.latex(qi)}}}" if eqs.dof > 1 else \
                     f"Q_{{\\text{{{name}}}}}"
                 steps.append(("generalized force", label, f"Q[{name}, {qi}]",
-                              budget.tidy(entry, f"Q {name}")))
+                              budget.tidy(entry)))
     steps += coupling_steps(eqs)
     if eqs.constraints:
         steps += _loop_steps(eqs)
         return steps
     if eqs.dof == 1 and not eqs.rheonomic:
-        inertia = budget.tidy(eqs.reduced_inertia, "I_red")
+        inertia = budget.tidy(eqs.reduced_inertia)
         steps.append(("reduced inertia", "I_{\\mathrm{red}}", "I_red", inertia))
         steps.append(("reduced moment", "M_{\\mathrm{red}}", "M_red",
-                      budget.tidy(eqs.reduced_moment, "M_red")))
+                      budget.tidy(eqs.reduced_moment)))
         q, u, a = eqs.q[0], eqs.u[0], eqs.a[0]
         textbook_lhs = ("I_{\\mathrm{red}} " + sp.latex(a) + " + \\frac{1}{2} "
                         "\\frac{d I_{\\mathrm{red}}}{d " + sp.latex(q) + "} "
                         + sp.latex(u) + "^{2}")
         steps.append(("textbook form", textbook_lhs, f"I_red*{a} + 1/2*dI_red/d{q}*{u}**2",
                       sp.Symbol("M_red")))
-        lhs = inertia * a + budget.tidy(sp.diff(inertia, q) / 2, "dI_red") * u ** 2
+        lhs = inertia * a + budget.tidy(sp.diff(inertia, q) / 2) * u ** 2
         steps.append(("equation of motion", sp.latex(lhs), str(lhs), eqs.textbook_equation.rhs))
     else:
-        mass = budget.tidy(eqs.mass_matrix, "mass matrix")
-        forcing = budget.tidy(eqs.forcing, "forcing")
+        mass = budget.tidy(eqs.mass_matrix)
+        forcing = budget.tidy(eqs.forcing)
         for i in range(eqs.dof):
             lhs = sum((mass[i, j] * eqs.a[j] for j in range(eqs.dof)), sp.S.Zero)
             steps.append(("equation of motion", sp.latex(lhs), str(lhs), forcing[i]))

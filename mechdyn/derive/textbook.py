@@ -126,26 +126,19 @@ def cheap_tidy(expr):
 
 
 class Budget:
-    """Time for simplification: ``seconds`` in all (then expressions are left as
-    derived and ``spent`` is set); ``announce(message)`` is called once when it takes
-    longer than ``after`` seconds."""
+    """Time for simplification: ``seconds`` in all from when it is made; then
+    expressions are left as derived and ``spent`` is set."""
 
-    def __init__(self, seconds=10.0, announce=None, after=1.0):
-        self.seconds, self.announce, self.after = seconds, announce, after
+    def __init__(self, seconds=10.0):
+        self.seconds = seconds
         self.start = time.perf_counter()
         self.spent = False
-        self._announced = False
 
-    def tidy(self, expr, what=""):
+    def tidy(self, expr):
         """``expr`` tidied (:func:`cheap_tidy`) while time is left, else as it is."""
         if isinstance(expr, sp.MatrixBase):
-            return expr.applyfunc(lambda entry: self.tidy(entry, what))
-        elapsed = time.perf_counter() - self.start
-        if elapsed > self.after and self.announce and not self._announced:
-            self._announced = True
-            self.announce(f"simplifying the derivation ({what or 'equations'}; "
-                          f"{elapsed:.1f} s so far, at most {self.seconds:g} s)")
-        if self.spent or elapsed > self.seconds:
+            return expr.applyfunc(self.tidy)
+        if self.spent or time.perf_counter() - self.start > self.seconds:
             self.spent = True
             return expr
         return cheap_tidy(expr)
@@ -241,7 +234,7 @@ class _Book:
                 wrt = tuple(sorted(symbol.wrt + (qk,), key=self.q.index))
                 named = Named(symbol.base, symbol.owner, wrt, self.one)
                 if named not in self.definitions:
-                    self.define(named, self.budget.tidy(raw, str(named)), f"order {len(wrt)}")
+                    self.define(named, self.budget.tidy(raw), f"order {len(wrt)}")
                 raw = named
             self.slopes[key] = raw
         return self.slopes[key]
