@@ -1,10 +1,19 @@
 """A newcomer's first hour (issue 29, items 2-8): motor characteristics given to a load
 directly, the bundled models found by name from any folder, usage errors before work with
 suggestions, short reprs of results."""
+import os
+import re
+import subprocess
+import sys
+import tomllib
+from pathlib import Path
+
 import sympy as sp
 import pytest
 
 import mechdyn as md
+
+ROOT = Path(__file__).resolve().parents[1]
 
 
 # ------------------------------------------------------- 2. motor characteristics
@@ -30,3 +39,39 @@ def test_a_plain_function_as_a_load_value_is_refused_naming_md_motors():
     with pytest.raises(md.DeclarationError, match=r"load 'motor'.*is a function.*md\.motors"):
         m.load("motor", lambda speed: 60 - speed, along=phi)
     assert repr(md.motors.kloss(60, 0.2, 157)) == "kloss(M_k=60, s_k=0.2, omega_sync=157)"
+
+
+# ------------------------------------------------- 5. the bundled models, by name
+def _mechdyn(*args, cwd):
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    return subprocess.run([sys.executable, "-m", "mechdyn.cli", *args], capture_output=True,
+                          text=True, env=env, cwd=cwd, timeout=300)
+
+
+def test_the_bundled_models_are_found_by_name_from_an_empty_folder(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert md.load_model("slider_crank").mechanism.name == "Slider-crank"
+    assert md.load_model("models/shoe_brake.py").scenes["braking"].name == "braking"
+    listed = _mechdyn("models", cwd=tmp_path)
+    assert listed.returncode == 0, listed.stderr
+    assert re.search(r"^slider_crank  Exact slider-crank", listed.stdout, re.M)
+    assert "    scenes: startup" in listed.stdout
+    run = _mechdyn("simulate", "shoe_brake", "--scene", "braking", cwd=tmp_path)
+    assert run.returncode == 0, run.stderr
+    assert "ended at t = 50 s" in run.stdout
+
+
+def test_the_models_folder_ships_as_package_data():
+    config = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]
+    assert "mechdyn.models" in config["packages"]
+    assert config["package-dir"]["mechdyn.models"] == "models"
+
+
+def test_a_misspelt_model_name_gets_a_suggestion(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(md.MechdynError, match=r"slider_crnk not found; did you mean "
+                       r"slider_crank\?"):
+        md.load_model("slider_crnk")
+    (tmp_path / "my_press.py").write_text("")
+    with pytest.raises(md.MechdynError, match=r"did you mean my_press\.py\?"):
+        md.load_model("my_pres.py")

@@ -22,7 +22,7 @@ MODELS = ROOT / "models"
 
 def _equations(model, *options, seed="0"):
     env = dict(os.environ, PYTHONHASHSEED=seed, PYTHONPATH=str(ROOT))
-    done = subprocess.run([sys.executable, "-m", "mechdyn.cli.command", "equations",
+    done = subprocess.run([sys.executable, "-m", "mechdyn.cli", "equations",
                            str(model), *options], capture_output=True, text=True, env=env,
                           timeout=120)
     assert done.returncode == 0, done.stderr

@@ -9,12 +9,18 @@ A model file is the user's own code and runs like any script. Whatever goes wron
 other files and the command exits with status 2. A real Ctrl-C still interrupts. Values
 typed on the command line are parsed by :mod:`mechdyn.parse`, never evaluated.
 
->>> model = load_model("models/shoe_brake.py")   # doctest: +SKIP
->>> sorted(model.scenes)                          # doctest: +SKIP
+The bundled models ship with the package: ``load_model("shoe_brake")`` finds one by
+name from any folder, and so does ``models/shoe_brake.py`` where no ``models`` folder is
+at hand (the README's examples run in an empty folder).
+
+>>> model = load_model("shoe_brake")
+>>> sorted(model.scenes)
 ['braking']
 """
 from __future__ import annotations
 
+import difflib
+import importlib.util
 import runpy
 import signal
 import threading
@@ -29,7 +35,7 @@ from mechdyn.errors import MechdynError
 from mechdyn.declare.mechanism import Mechanism
 from mechdyn.declare.scene import Scene
 
-__all__ = ["Model", "load_model"]
+__all__ = ["Model", "load_model", "bundled_folder", "locate"]
 
 
 class ModelFileError(MechdynError, ValueError):
@@ -69,10 +75,9 @@ class Model:
 
 
 def load_model(path) -> Model:
-    """Run a model file and collect its ``mechanism``, ``params`` and ``scenes``."""
-    path = Path(path)
-    if not path.is_file():
-        raise ModelFileError(f"model file {path} not found")
+    """Run a model file and collect its ``mechanism``, ``params`` and ``scenes``;
+    ``path`` a file or the name of a bundled model (see :func:`locate`)."""
+    path = locate(path)
     namespace = _run(path)
     mechanism = namespace.get("mechanism")
     if not isinstance(mechanism, Mechanism):
@@ -87,6 +92,44 @@ def load_model(path) -> Model:
                              f"{type(points).__name__}")
     return Model(path, mechanism, params, scenes, doc.strip() if isinstance(doc, str) else "",
                  dict(points))
+
+
+def bundled_folder() -> Path:
+    """The folder of the models that ship with mechdyn (package data
+    ``mechdyn/models``, or ``models/`` beside the package in a source checkout)."""
+    spec = importlib.util.find_spec("mechdyn.models")
+    for location in (spec.submodule_search_locations or []) if spec else []:
+        if Path(location).is_dir():
+            return Path(location)
+    return Path(__file__).resolve().parents[2] / "models"
+
+
+def bundled_names() -> list:
+    """The names of the bundled models (``load_model(name)``)."""
+    return sorted(p.stem for p in bundled_folder().glob("*.py") if not p.name.startswith("_"))
+
+
+def locate(path) -> Path:
+    """The model file ``path`` names: the file itself; a bundled model by name
+    (``"slider_crank"``); ``models/NAME.py`` of the bundled models where there is no
+    ``models`` folder here. Otherwise a :class:`ModelFileError` that suggests the
+    closest file names."""
+    path = Path(path)
+    if path.is_file():
+        return path
+    bundled = bundled_folder() / (path.stem + ".py")
+    bare = path.parent == Path(".") and path.suffix in ("", ".py")
+    elsewhere = path.parent == Path("models") and not Path("models").is_dir()
+    if (bare or elsewhere) and bundled.is_file():
+        return bundled
+    local = sorted(path.parent.glob("*.py")) if path.parent.is_dir() else []
+    choices = {name: name for name in bundled_names()}
+    choices.update({p.stem: str(p) for p in local})      # the closest name, here first
+    close = difflib.get_close_matches(path.stem, list(choices), n=1)
+    suggestion = choices[close[0]] if close else None
+    hint = f"; did you mean {suggestion}?" if suggestion else ""
+    raise ModelFileError(f"model file {path} not found{hint} (the bundled models, by "
+                         f"name: {', '.join(bundled_names())})")
 
 
 def _run(path) -> dict:
