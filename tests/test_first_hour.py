@@ -69,9 +69,46 @@ def test_the_models_folder_ships_as_package_data():
 
 def test_a_misspelt_model_name_gets_a_suggestion(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
-    with pytest.raises(md.MechdynError, match=r"slider_crnk not found; did you mean "
-                       r"slider_crank\?"):
+    with pytest.raises(md.MechdynError, match=r"slider_crnk not found \(did you mean "
+                       r"slider_crank\?\)"):
         md.load_model("slider_crnk")
     (tmp_path / "my_press.py").write_text("")
     with pytest.raises(md.MechdynError, match=r"did you mean my_press\.py\?"):
         md.load_model("my_pres.py")
+
+
+# ------------------------------------------- 6. usage errors before work, suggestions
+def _cli(capsys, *argv):
+    from mechdyn import cli
+    try:
+        status = cli.main(list(argv))
+    except SystemExit as exit_:          # argparse: usage errors
+        status = exit_.code
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+@pytest.mark.parametrize("argv, message", [
+    (("precision", "shoe_brake", "--scene", "braking", "--methods", "RK54"),
+     "unknown method 'RK54' (did you mean RK45?)"),
+    (("simulate", "motor_startup", "--scene", "startup", "--units", "speed=rmp"),
+     "unknown unit 'rmp' (did you mean rpm?)"),
+    (("simulate", "shoe_brake", "--scene", "brakin"), "no scene 'brakin' (did you mean braking?)"),
+    (("simulate", "shoe_brak", "--scene", "braking"), "(did you mean shoe_brake?)"),
+    (("linkage", "fourbar_flywheel", "--omega", "30", "--drive", "motr"),
+     "no load named or tagged so (did you mean motor?)"),
+    (("sweep", "shoe_brake", "--scene", "braking", "--grid", "PP=1:2:2"),
+     "no parameter 'PP' (did you mean P?)"),
+])
+def test_usage_errors_exit_2_before_any_work_with_a_suggestion(capsys, argv, message):
+    status, out, err = _cli(capsys, *argv)
+    assert status == 2 and out == ""                  # nothing ran, nothing printed
+    assert message in err
+
+
+def test_a_scene_with_a_misspelt_method_gets_a_suggestion():
+    model = md.load_model("shoe_brake")
+    scene = model.scenes["braking"]
+    wrong = md.Scene("braking", initial=scene.initial, until=scene.until, method="Rado")
+    with pytest.raises(md.SceneError, match=r"unknown method 'Rado' \(did you mean Radau\?\)"):
+        model.mechanism.simulate(wrong, model.params)

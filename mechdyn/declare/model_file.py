@@ -19,7 +19,6 @@ at hand (the README's examples run in an empty folder).
 """
 from __future__ import annotations
 
-import difflib
 import importlib.util
 import runpy
 import signal
@@ -31,7 +30,7 @@ from pathlib import Path
 
 import sympy as sp
 
-from mechdyn.errors import MechdynError
+from mechdyn.errors import MechdynError, did_you_mean
 from mechdyn.declare.mechanism import Mechanism
 from mechdyn.declare.scene import Scene
 
@@ -58,6 +57,7 @@ class Model:
             cycle = "+" in name and all(part in self.scenes for part in name.split("+"))
             hint = (" (a duty cycle A+B runs with `mechdyn simulate` or md.duty_cycle)"
                     if cycle else "")
+            hint = hint or did_you_mean(name, self.scenes)
             raise ModelFileError(f"{self.path}: no scene {name!r}{hint}; scenes: "
                                  f"{', '.join(self.scenes) or 'none'}")
         return self.scenes[name]
@@ -70,8 +70,10 @@ class Model:
         for symbol in self.mechanism.equations().parameters:
             if str(symbol) == name:
                 return symbol
-        raise ModelFileError(f"{self.path}: no parameter {name!r}; parameters: "
-                             f"{', '.join(sorted(str(s) for s in self.params))}")
+        known = sorted({str(s) for s in self.params}
+                       | {str(s) for s in self.mechanism.equations().parameters})
+        raise ModelFileError(f"{self.path}: no parameter {name!r}{did_you_mean(name, known)}"
+                             f"; parameters: {', '.join(known)}")
 
 
 def load_model(path) -> Model:
@@ -122,14 +124,13 @@ def locate(path) -> Path:
     elsewhere = path.parent == Path("models") and not Path("models").is_dir()
     if (bare or elsewhere) and bundled.is_file():
         return bundled
-    local = sorted(path.parent.glob("*.py")) if path.parent.is_dir() else []
-    choices = {name: name for name in bundled_names()}
-    choices.update({p.stem: str(p) for p in local})      # the closest name, here first
-    close = difflib.get_close_matches(path.stem, list(choices), n=1)
-    suggestion = choices[close[0]] if close else None
-    hint = f"; did you mean {suggestion}?" if suggestion else ""
-    raise ModelFileError(f"model file {path} not found{hint} (the bundled models, by "
-                         f"name: {', '.join(bundled_names())})")
+    local = {p.stem: str(p) for p in sorted(path.parent.glob("*.py"))} \
+        if path.parent.is_dir() else {}
+    hint = did_you_mean(path.stem, [*local, *bundled_names()])
+    for stem, shown in local.items():                        # a file here: its path
+        hint = hint.replace(f" {stem}?", f" {shown}?")
+    raise ModelFileError(f"model file {path} not found{hint}; the bundled models, by "
+                         f"name: {', '.join(bundled_names())}")
 
 
 def _run(path) -> dict:
