@@ -26,3 +26,26 @@ def test_a_readme_block_runs_as_written(block, tmp_path, monkeypatch):
     pytest.importorskip("matplotlib")
     monkeypatch.chdir(tmp_path)
     exec(compile(block, "README.md", "exec"), {"__name__": "readme"})
+
+
+SHOWN = re.compile(r"^(?P<code>[^#=\n]+?)\s+# (?P<shown>\[.*?\])(;|$)")
+
+
+def _shown_lists():
+    for index, block in enumerate(BLOCKS):
+        for line in block.splitlines():
+            if SHOWN.match(line):
+                yield pytest.param(block, id=f"{index}:{line.split('#')[0].strip()[:30]}")
+
+
+@pytest.mark.parametrize("block", _shown_lists())
+def test_the_lists_a_block_shows_are_what_python_prints(block, tmp_path, monkeypatch):
+    """Doctest-style: a line ``expression  # [shown]`` prints as shown in a REPL."""
+    pytest.importorskip("matplotlib")
+    monkeypatch.chdir(tmp_path)
+    namespace = {"__name__": "readme"}
+    exec(compile(block, "README.md", "exec"), namespace)
+    for line in block.splitlines():
+        match = SHOWN.match(line)
+        if match:
+            assert repr(eval(match["code"], namespace)) == match["shown"], line
