@@ -112,3 +112,47 @@ def test_a_scene_with_a_misspelt_method_gets_a_suggestion():
     wrong = md.Scene("braking", initial=scene.initial, until=scene.until, method="Rado")
     with pytest.raises(md.SceneError, match=r"unknown method 'Rado' \(did you mean Radau\?\)"):
         model.mechanism.simulate(wrong, model.params)
+
+
+# ---------------------------------------------------------------- 3. many events
+@pytest.fixture(scope="module")
+def rubbing():
+    """A block on a spring, Coulomb friction on its guide: it reverses ~32 times in 10 s
+    (amplitude losing 2 F/k = 0.02 m a half cycle of 0.628 s)."""
+    x = md.coordinate("x")
+    block = md.Mechanism("block", [x], units={x: "m"})
+    block.link("block", m=1, x=x)
+    block.spring("spring", 100, stretch=x)
+    block.friction("guide", 1, along=x)
+    return block.simulate(md.Scene("release", initial={x: 1, md.speed(x): 0}, t_end=10))
+
+
+def test_repeated_events_are_one_summary_line_and_all_kept(rubbing):
+    slips = [e for e in rubbing.events if e.kind == "slip" and e.name == "guide"]
+    assert len(slips) == len(rubbing.events) > 25          # every reversal is kept
+    lines = [line for line in rubbing.summary().splitlines() if "guide" in line]
+    assert lines == [f"  slip guide: {len(slips)} times, t = 0 ... "
+                     f"{slips[-1].time:.4g} s"]
+
+
+def test_plot_labels_group_repeated_events_and_only_what_fits(rubbing):
+    pytest.importorskip("matplotlib")
+    from mechdyn.simulate.events import Event
+    figure = rubbing.plot()
+    assert [t.get_text() for t in figure.axes[0].texts] == [
+        f"slip guide: {len(rubbing.events)} times, t = 0 ... {rubbing.events[-1].time:.4g} s"]
+    figure.clf()
+    many = [Event(0.5 * k, "stick", f"brake {k}", "") for k in range(20)]   # 20 labels
+    rubbing.events, kept = many, rubbing.events
+    try:
+        figure = rubbing.plot()
+    finally:
+        rubbing.events = kept
+    figure.canvas.draw()
+    renderer = figure.canvas.get_renderer()
+    texts = figure.axes[0].texts
+    labels = [t for t in texts if t.get_text().startswith("stick")]
+    assert 2 <= len(labels) < 20
+    assert texts[-1].get_text() == f"+{20 - len(labels)} event labels left out (result.events)"
+    boxes = [t.get_window_extent(renderer) for t in labels]
+    assert not any(a.overlaps(b) for i, a in enumerate(boxes) for b in boxes[i + 1:])
