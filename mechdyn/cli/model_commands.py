@@ -240,6 +240,7 @@ def _animate(args):
     with _progress(args) as progress:
         if progress is not None:
             progress.t_start = scene.t_start
+            progress.until = " or ".join(map(repr, scene.until))
         result = model.mechanism.simulate(scene, params, progress=progress)
     film = animate(model.mechanism, result, params, args.out, sample=args.sample,
                    fps=args.fps)

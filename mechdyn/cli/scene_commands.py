@@ -98,6 +98,7 @@ def _run_scene_or_cycle(args, progress):
     params = _params(model, scene, args.param)
     if progress is not None:
         progress.t_start = scene.t_start
+        progress.until = " or ".join(map(repr, scene.until))
     result = model.mechanism.simulate(scene, params, progress=progress)
     if name is not None:
         from mechdyn.simulate.simulation import atol_vector
