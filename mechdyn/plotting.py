@@ -184,8 +184,8 @@ def plot_sweep(sweep, y, path=None):
     if failed:
         ax.plot(failed, [0] * len(failed), "rx", transform=ax.get_xaxis_transform(),
                 clip_on=False, label=f"failed ({len(failed)})")
-    ax.set_xlabel(x_name)
-    ax.set_ylabel("stop time t_end [s]" if y == "t_end" else y)
+    ax.set_xlabel(sweep.label(x_name))
+    ax.set_ylabel("stop time t_end [s]" if y == "t_end" else sweep.label(y))
     ax.set_title(f"{y} against {x_name} ({len(sweep)} points)")
     ax.grid(True, alpha=0.3)
     if ax.get_legend_handles_labels()[1]:

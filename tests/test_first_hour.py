@@ -156,3 +156,32 @@ def test_plot_labels_group_repeated_events_and_only_what_fits(rubbing):
     assert texts[-1].get_text() == f"+{20 - len(labels)} event labels left out (result.events)"
     boxes = [t.get_window_extent(renderer) for t in labels]
     assert not any(a.overlaps(b) for i, a in enumerate(boxes) for b in boxes[i + 1:])
+
+
+# ----------------------------------------------------------- 8. units everywhere
+def test_sweep_columns_and_plot_axes_carry_units():
+    pytest.importorskip("matplotlib")
+    model = md.load_model("shoe_brake")
+    table = md.sweep(model.mechanism, model.scenes["braking"], model.params,
+                     {"P": [20, 40]}, progress=False, workers=1)
+    assert [table.label(c) for c in ("P", "t_end", "final:phi", "final:phidot")] == \
+        ["P [N]", "t_end [s]", "final:phi [rad]", "final:phidot [rad/s]"]
+    figure = table.plot("final:phi")
+    assert figure.axes[0].get_xlabel() == "P [N]"
+    assert figure.axes[0].get_ylabel() == "final:phi [rad]"
+
+
+def test_a_summary_writes_the_unit_once_after_final_and_peak():
+    model = md.load_model("shoe_brake")
+    braking = model.scenes["braking"]
+    scene = md.Scene("braking", initial=braking.initial, until=braking.until,
+                     outputs={"brake moment": "shoe"})
+    res = model.mechanism.simulate(scene, model.params)
+    line = next(line for line in res.summary().splitlines() if "brake moment" in line)
+    assert re.fullmatch(r"  brake moment: peak -?[0-9.]+, final -?[0-9.]+ N\*m", line)
+
+
+def test_the_repeats_help_says_what_the_runs_column_shows(capsys):
+    status, out, _ = _cli(capsys, "precision", "--help")
+    assert status == 0
+    assert "default 3; fewer once they took 1 s, up to 5 times more" in " ".join(out.split())

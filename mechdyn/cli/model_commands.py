@@ -126,7 +126,7 @@ def _sweep(args):
     if y not in table.columns:
         raise MechdynError(f"--y {y!r}: not a column ({', '.join(table.columns)})")
     shown = table.parameters + [y] + (["t_end"] if y != "t_end" else [])
-    print("  ".join(f"{c:>14}" for c in shown) + "  reason or error")
+    print("  ".join(f"{table.label(c):>14}" for c in shown) + "  reason or error")
     for row in table.rows:
         cells = "  ".join(f"{row[c]:>14.6g}" for c in shown)
         print(f"{cells}  {row['error'] or row['reason']}")

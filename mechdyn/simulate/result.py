@@ -298,8 +298,8 @@ class Result:
         for label, values in self.outputs.items():
             values, unit = shown.values(label, si[label],
                                         np.array([values[-1], self.peak(label)[1]]))
-            unit = f" {unit}" if unit else ""
-            lines.append(f"  {label}: peak {values[1]:.6g}{unit}, final {values[0]:.6g}{unit}")
+            unit = f" {unit}" if unit else ""                # once, after both
+            lines.append(f"  {label}: peak {values[1]:.6g}, final {values[0]:.6g}{unit}")
         lines += [f"  {text}" for text, _, _ in event_groups(self.events, self.t[0],
                                                               self.t_end)]
         lines.append(f"  {cost_line(self.stats)}")
