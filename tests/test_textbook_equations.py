@@ -43,8 +43,9 @@ def _close(a, b, symbols, points=5):
                                                          abs=1e-12)
 
 
-@pytest.mark.parametrize("model, seeds", [(USER_MODEL, ("0", "1", "4242")),
-                                          (MODELS / "slider_crank.py", ("2", "77"))])
+@pytest.mark.parametrize("model, seeds", [
+    (USER_MODEL, ("0", "1", "4242")),
+    pytest.param(MODELS / "slider_crank.py", ("2", "77"), marks=pytest.mark.slow)])
 def test_equations_are_the_same_for_any_hash_seed_and_name_each_function_once(model, seeds):
     outputs = {_equations(model, seed=seed) for seed in seeds}
     assert len(outputs) == 1
