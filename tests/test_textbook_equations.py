@@ -168,3 +168,27 @@ def test_a_long_derivation_is_announced_on_stderr(capsys):
     with announced("quick", after=60.0):
         pass
     assert capsys.readouterr().err == ""
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", sorted(p.stem for p in MODELS.glob("*.py")))
+def test_every_bundled_model_named_derivation_agrees_with_lagrange(name):
+    """Written back in the coordinates, the named mass matrix, velocity terms and forces
+    are the derived ones (at random points); a law is named by what it acts along."""
+    model = md.load_model(MODELS / f"{name}.py")
+    eqs = model.mechanism.equations()
+    from mechdyn.derive.textbook import applies
+    if not applies(eqs):
+        pytest.skip("closed loops or imposed motion: printed expanded")
+    book = model.mechanism.derivation()
+    symbols = sorted(eqs.mass_matrix.free_symbols | eqs.forcing.free_symbols
+                     | set(eqs.q) | set(eqs.u), key=str)
+    for i in range(eqs.dof):
+        _close(book.expand(book.forces[i]), sum((c[i] for c in eqs.generalized_forces.values()),
+                                                sp.S.Zero), symbols, points=3)
+        _close(book.expand(book.velocity_terms[i]), -eqs.inertial_forcing[i], symbols, points=3)
+        for j in range(eqs.dof):
+            _close(book.expand(book.mass_matrix[i, j]), eqs.mass_matrix[i, j], symbols, points=3)
+    latex = model.mechanism.latex()
+    if name == "press_cycle":                  # a force along the ram's (negated) height
+        assert "F_{\\text{workpiece}}\\left(\\phi\\right) &=" in latex

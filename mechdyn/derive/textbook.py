@@ -244,8 +244,10 @@ class _Book:
 
     def letter(self, along):
         """M for a moment (along an angle), F for a force, Q when it cannot tell."""
-        if isinstance(along, Named):
-            return "M" if along.base == "theta" else "F" if along.base in "xy" else "Q"
+        named = along.atoms(Named)
+        if len(named) == 1:                       # a named position, perhaps negated
+            base = next(iter(named)).base
+            return "M" if base == "theta" else "F" if base in "xy" else "Q"
         units = [self.eqs.coordinate_units.get(q, "rad") for q in along.free_symbols
                  if q in self.q]
         return "M" if all(unit in _ANGLES for unit in units) else "F"
