@@ -1,10 +1,8 @@
 """A newcomer's first hour (issue 29, items 2-8): motor characteristics given to a load
-directly, the bundled models found by name from any folder, usage errors before work with
-suggestions, short reprs of results."""
-import os
+directly, many events grouped, the bundled models found by name from any folder, usage
+errors before work with suggestions, units in sweeps and summaries (the short reprs are
+checked against the README in tests/test_readme.py)."""
 import re
-import subprocess
-import sys
 import tomllib
 from pathlib import Path
 
@@ -14,6 +12,16 @@ import pytest
 import mechdyn as md
 
 ROOT = Path(__file__).resolve().parents[1]
+
+
+def _cli(capsys, *argv):
+    from mechdyn import cli
+    try:
+        status = cli.main(list(argv))
+    except SystemExit as exit_:          # argparse: usage errors
+        status = exit_.code
+    out, err = capsys.readouterr()
+    return status, out, err
 
 
 # ------------------------------------------------------- 2. motor characteristics
@@ -42,23 +50,18 @@ def test_a_plain_function_as_a_load_value_is_refused_naming_md_motors():
 
 
 # ------------------------------------------------- 5. the bundled models, by name
-def _mechdyn(*args, cwd):
-    env = dict(os.environ, PYTHONPATH=str(ROOT))
-    return subprocess.run([sys.executable, "-m", "mechdyn.cli", *args], capture_output=True,
-                          text=True, env=env, cwd=cwd, timeout=300)
-
-
-def test_the_bundled_models_are_found_by_name_from_an_empty_folder(tmp_path, monkeypatch):
+def test_the_bundled_models_are_found_by_name_from_an_empty_folder(tmp_path, monkeypatch,
+                                                                   capsys):
     monkeypatch.chdir(tmp_path)
     assert md.load_model("slider_crank").mechanism.name == "Slider-crank"
     assert md.load_model("models/shoe_brake.py").scenes["braking"].name == "braking"
-    listed = _mechdyn("models", cwd=tmp_path)
-    assert listed.returncode == 0, listed.stderr
-    assert re.search(r"^slider_crank  Exact slider-crank", listed.stdout, re.M)
-    assert "    scenes: startup" in listed.stdout
-    run = _mechdyn("simulate", "shoe_brake", "--scene", "braking", cwd=tmp_path)
-    assert run.returncode == 0, run.stderr
-    assert "ended at t = 50 s" in run.stdout
+    status, out, err = _cli(capsys, "models")
+    assert status == 0, err
+    assert re.search(r"^slider_crank  Exact slider-crank", out, re.M)
+    assert "    scenes: startup" in out
+    status, out, err = _cli(capsys, "simulate", "shoe_brake", "--scene", "braking")
+    assert status == 0, err
+    assert "ended at t = 50 s" in out
 
 
 def test_the_models_folder_ships_as_package_data():
@@ -78,16 +81,6 @@ def test_a_misspelt_model_name_gets_a_suggestion(tmp_path, monkeypatch):
 
 
 # ------------------------------------------- 6. usage errors before work, suggestions
-def _cli(capsys, *argv):
-    from mechdyn import cli
-    try:
-        status = cli.main(list(argv))
-    except SystemExit as exit_:          # argparse: usage errors
-        status = exit_.code
-    out, err = capsys.readouterr()
-    return status, out, err
-
-
 @pytest.mark.parametrize("argv, message", [
     (("precision", "shoe_brake", "--scene", "braking", "--methods", "RK54"),
      "unknown method 'RK54' (did you mean RK45?)"),

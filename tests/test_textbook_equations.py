@@ -142,14 +142,20 @@ def test_two_dof_jacobian_entries_are_named_and_agree_with_lagrange():
             _close(book.expand(book.mass_matrix[i, j]), eqs.mass_matrix[i, j], symbols)
 
 
-def test_expanded_form_writes_every_term_in_the_coordinates():
-    latex = _equations(MODELS / "scotch_yoke.py", "--expanded")
+def _in_process(capsys, *argv):
+    from mechdyn.cli import main
+    assert main(["equations", *map(str, argv)]) == 0
+    return capsys.readouterr().out
+
+
+def test_expanded_form_writes_every_term_in_the_coordinates(capsys):
+    latex = _in_process(capsys, MODELS / "scotch_yoke.py", "--expanded")
     inertia = _lines(latex)["I_{\\mathrm{red}}"]
     assert "\\sin" in inertia and "prime" not in latex
 
 
-def test_a_spent_budget_is_said_and_the_expressions_print_as_derived():
-    text = _equations(USER_MODEL, "--format", "text", "--budget", "0")
+def test_a_spent_budget_is_said_and_the_expressions_print_as_derived(capsys):
+    text = _in_process(capsys, USER_MODEL, "--format", "text", "--budget", "0")
     assert "simplification stopped after the budget of 0 s" in text
     assert re.search(r"reduced inertia: +I_red = J_f \+ m_s\*x_slider'\*\*2", text)
     derivative = next(line for line in text.splitlines() if "x_slider' =" in line)
