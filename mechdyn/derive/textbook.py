@@ -58,7 +58,7 @@ class Named(sp.Symbol):
 
     @classmethod
     def class_key(cls):
-        return 2, 0, "Symbol"          # sort among the symbols by name
+        return 2, 1, "Symbol"          # after the parameters: m_s x_slider'^2
 
     def __getnewargs__(self):
         return (self.base, self.owner, self.wrt, self.one_dof)
@@ -71,7 +71,8 @@ class Named(sp.Symbol):
         if self.one_dof:
             return stem + "^{" + "\\prime" * len(self.wrt) + "}"
         top = "\\partial" if len(self.wrt) == 1 else f"\\partial^{{{len(self.wrt)}}}"
-        below = " ".join(f"\\partial {printer._print(q)}" for q in self.wrt)
+        below = " ".join(f"\\partial {printer._print(q ** self.wrt.count(q))}"
+                         for q in dict.fromkeys(self.wrt))
         return f"\\frac{{{top} {stem}}}{{{below}}}"
 
 
@@ -368,7 +369,7 @@ def _steps(eqs, book, result, kinetic, potential, dissipation) -> list:
                       f"I_red*{a[0]} + 1/2*dI_red/d{q[0]}*{u[0]}**2", sp.Symbol("M_red")))
     for i in range(eqs.dof):
         force = in_order([column[i] for column in result.terms.values()])
-        if eqs.dof > 1:
+        if eqs.dof > 1 and force != 0:
             steps.append(("generalized force", f"Q_{{{sp.latex(q[i])}}}", f"Q[{q[i]}]", force))
         parts = [(result.mass_matrix[i, j], a[j]) for j in range(eqs.dof)
                  if result.mass_matrix[i, j] != 0]
