@@ -13,7 +13,7 @@ static void f(double t, const double *x, const double *p, const double *w, doubl
     const double q0 = x[0];
     const double k = p[0];
     out[0] = k*pow(sin(q0), 2);
-    (void)t; (void)x; (void)p; (void)w;
+    (void)t; (void)x; (void)p; (void)w; (void)out;
 }
 """
 from __future__ import annotations
@@ -61,7 +61,8 @@ def printed(expr, what="expression") -> str:
 def c_function(name, states, parameters, expressions, body=None, what=()) -> str:
     """C source of ``name`` computing ``expressions`` with shared subexpressions.
 
-    ``states`` and ``parameters`` map the local names (never ``t``, ``x``, ``p``, ``w``) the expressions use to the C
+    ``states`` and ``parameters`` map the local names (never ``t``, ``x``, ``p``, ``w``;
+    only those the expressions use are bound) the expressions use to the C
     they are read from (``{"q0": "x[0]"}``); ``body`` lists the statements writing the
     results, format strings over the expressions' C (default ``out[i] = {i}``);
     ``what`` names each expression for errors.
@@ -71,13 +72,15 @@ def c_function(name, states, parameters, expressions, body=None, what=()) -> str
     names = list(what) + [f"expression {i}" for i in range(len(what), len(reduced))]
     text = [f"static void {name}(double t, const double *x, const double *p, "
             "const double *w, double *out)", "{"]
+    used = {s.name for e in list(reduced) + [v for _, v in temporaries]
+            for s in sp.sympify(e).free_symbols}
     text += [f"    const double {local} = {source};"
-             for local, source in {**states, **parameters}.items()]
+             for local, source in {**states, **parameters}.items() if local in used]
     text += [f"    const double {symbol} = {printed(value, name)};"
              for symbol, value in temporaries]
     values = [printed(expr, label) for expr, label in zip(reduced, names)]
     if body is None:
         body = [f"out[{i}] = {{{i}}}" for i in range(len(values))]
     text += ["    " + line.format(*values) + ";" for line in body]
-    text += ["    (void)t; (void)x; (void)p; (void)w;", "}"]
+    text += ["    (void)t; (void)x; (void)p; (void)w; (void)out;", "}"]
     return "\n".join(text)

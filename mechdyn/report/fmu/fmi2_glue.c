@@ -17,6 +17,7 @@ typedef struct {
     double t, span;
     double x[NX + 1], p[NP + 1], w[NSW + 1], side[NSTOP + 1];
     int terminated;
+    char name[128];
     fmi2CallbackFunctions callbacks;
 } Instance;
 
@@ -140,12 +141,13 @@ FMI2_Export fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2St
                                           fmi2Boolean visible, fmi2Boolean logging)
 {
     Instance *m;
-    (void)name; (void)location; (void)visible; (void)logging;
+    (void)location; (void)visible; (void)logging;
     if (type != fmi2ModelExchange || guid == NULL || strcmp(guid, MODEL_GUID) != 0)
         return NULL;
     m = (Instance *)calloc(1, sizeof(Instance));
     if (m == NULL) return NULL;
     memcpy((void *)&m->callbacks, callbacks, sizeof(fmi2CallbackFunctions));
+    strncpy(m->name, name ? name : "mechdyn", sizeof(m->name) - 1);
     memcpy(m->x, START_X, sizeof(double) * NX);
     memcpy(m->p, START_P, sizeof(double) * (NP + 1));
     m->t = START_TIME;
@@ -299,8 +301,18 @@ FMI2_Export fmi2Status fmi2SetContinuousStates(fmi2Component c, const fmi2Real x
 FMI2_Export fmi2Status fmi2GetDerivatives(fmi2Component c, fmi2Real dx[], size_t n)
 {
     Instance *m = (Instance *)c;
+    size_t i;
+    int finite;
     if (n != NX) return fmi2Error;
-    return derivatives(m->t, m->x, m->p, m->w, dx) ? fmi2OK : fmi2Discard;
+    finite = derivatives(m->t, m->x, m->p, m->w, dx);
+    for (i = 0; i < NX; i++) finite = finite && isfinite(dx[i]);
+    if (finite) return fmi2OK;
+    if (m->callbacks.logger)
+        m->callbacks.logger(m->callbacks.componentEnvironment, m->name, fmi2Error,
+                            "logStatusError", "derivatives not finite at t = %g: the mass "
+                            "matrix is not positive definite there, or an expression (a root, "
+                            "power, logarithm or arcsine) has no real value", m->t);
+    return fmi2Error;
 }
 
 FMI2_Export fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real z[], size_t n)
