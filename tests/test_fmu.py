@@ -106,8 +106,7 @@ def test_the_model_description_validates_with_units_starts_and_sources(exported)
                                   variables["energy"])] == ["output"] * 3
     assert variables["motor"].unit == "N.m" and variables["power:motor"].unit == "W"
     assert description.numberOfEventIndicators == 1
-    assert description.defaultExperiment.tolerance == str(scene.rtol) or \
-        float(description.defaultExperiment.tolerance) == scene.rtol
+    assert float(description.defaultExperiment.tolerance) == scene.rtol
     names = zipfile.ZipFile(path).namelist()
     assert {"sources/model.c", "sources/fmi2_glue.c", "sources/fmi2_header.h"} <= set(names)
     assert any(n.startswith("binaries/") for n in names)

@@ -1,6 +1,6 @@
 """``modelDescription.xml`` of an exported mechanism (FMI 2.0 Model Exchange): its
 variables with units and descriptions, in the value-reference layout of the glue
-(:mod:`mechdyn.report.fmu.glue`): states ``[q, u]``, their derivatives, parameters
+(``fmi2_glue.c``): states ``[q, u]``, their derivatives, parameters
 (inputs among them), the scene's outputs and the energies.
 
 >>> unit_of("N*m"), unit_of("kg*m^2"), unit_of("1/s"), unit_of("rad/s"), unit_of("")

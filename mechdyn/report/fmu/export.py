@@ -55,7 +55,8 @@ def export_fmu(mechanism, scene, params, path, inputs=(), start=None) -> Path:
     marked = _inputs(inputs, names, mechanism, scene)
     y0 = _initial_state(mechanism, scene, values, start)
     variables, units = _variables(mechanism, scene, eqs, code, p, marked, y0)
-    source = _model_source(code, p, y0, scene, guid := _guid(code.source, variables))
+    guid = _guid(code.source, variables)
+    source = _model_source(code, p, y0, scene, guid)
     identifier = _identifier(f"{mechanism.name}_{scene.name}")
     description = model_description(
         name=f"{mechanism.name} ({scene.name})", identifier=identifier, guid=guid,
@@ -185,7 +186,7 @@ def _variables(mechanism, scene, eqs, code, p, marked, y0) -> tuple:
 def _coordinate_units(mechanism, known, name, q) -> tuple:
     """SI texts of a coordinate, its speed and its acceleration (``rad`` for angles)."""
     dim = known[q]
-    if dim.dimensionless and mechanism.units.get(name, "rad") in ("rad", "1"):
+    if dim.dimensionless and mechanism.units.get(name, "rad") != "1":    # an angle
         return "rad", "rad/s", "rad/s^2"
     return tuple("" if d.si == "1" else d.si
                  for d in (dim, dim / dimension("s"), dim / dimension("s^2")))

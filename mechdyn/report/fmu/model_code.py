@@ -1,5 +1,5 @@
 """The model-specific C of an FMU: a scene's equations ``M(q) q'' = f`` as the functions
-the FMI glue (:mod:`mechdyn.report.fmu.glue`) calls.
+the FMI glue (``fmi2_glue.c``) calls.
 
 The expressions are the ones the compiled backend generates
 (:mod:`mechdyn.compile.generate`): the derived mass matrix and smooth forcing, the
