@@ -340,3 +340,18 @@ def test_derivatives_without_a_real_value_are_an_fmi_error_not_nan(tmp_path):
     with pytest.raises(FMICallException, match="fmi2GetDerivatives"):
         fmu.getDerivatives(dx, 2)
     fmu.freeInstance()
+
+
+def test_a_switch_that_chatters_stops_fmpys_run_with_an_error(tmp_path):
+    # a drag 3 sign(omega) against a drive of 1 holds the disc once it stops at t = 1 s:
+    # sign flips at every event in that instant (mechdyn's own run exceeds its budget)
+    from fmpy.fmi1 import FMICallException
+    phi = md.coordinate("phi")
+    disc = md.Mechanism("disc", [phi])
+    disc.link("disc", J=1, angle=phi)
+    disc.load("drive", 1, along=phi)
+    disc.load("drag", -3 * sp.sign(md.speed(phi)), along=phi)
+    path = tmp_path / "disc.fmu"
+    disc.export_fmu(md.Scene("run", initial={phi: 0, md.speed(phi): 2}, t_end=3), {}, path)
+    with pytest.raises(FMICallException, match="fmi2NewDiscreteStates"):
+        fmpy.simulate_fmu(str(path), relative_tolerance=1e-10)

@@ -12,11 +12,13 @@
 #define NZ (NSTOP + NSW)
 #define NY (NOUT + 2)
 #define N_REAL (2 * NX + NP + NY + 1)
+#define CHATTER 100     /* events in one instant after which the run stops */
 
 typedef struct {
     double t, span;
     double x[NX + 1], p[NP + 1], w[NSW + 1], side[NSTOP + 1];
-    int terminated;
+    double last_event;
+    int terminated, quick_events;
     char name[128];
     fmi2CallbackFunctions callbacks;
 } Instance;
@@ -152,6 +154,7 @@ FMI2_Export fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2St
     memcpy(m->p, START_P, sizeof(double) * (NP + 1));
     m->t = START_TIME;
     m->span = STOP_TIME - START_TIME;
+    m->last_event = -INFINITY;
     return m;
 }
 
@@ -188,7 +191,8 @@ FMI2_Export fmi2Status fmi2Reset(fmi2Component c)
     memcpy(m->p, START_P, sizeof(double) * (NP + 1));
     memset(m->w, 0, sizeof(m->w));
     m->t = START_TIME;
-    m->terminated = 0;
+    m->terminated = m->quick_events = 0;
+    m->last_event = -INFINITY;
     return fmi2OK;
 }
 
@@ -266,6 +270,20 @@ FMI2_Export fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *inf
     info->valuesOfContinuousStatesChanged = fmi2False;
     info->nextEventTimeDefined = fmi2False;
     info->nextEventTime = 0.0;
+    if (m->t - m->last_event <= 1e-9 * (fabs(m->t) > 1.0 ? fabs(m->t) : 1.0))
+        m->quick_events++;
+    else
+        m->quick_events = 0;
+    m->last_event = m->t;
+    if (m->quick_events > CHATTER) {
+        if (m->callbacks.logger)
+            m->callbacks.logger(m->callbacks.componentEnvironment, m->name, fmi2Error,
+                                "logStatusError", "events chatter at t = %g: a switch (a "
+                                "sign, Abs, Min, Max or Piecewise of the state) flips back and "
+                                "forth in one instant; a force that holds a speed at zero is a "
+                                "friction element, which has no FMU form yet", m->t);
+        return fmi2Error;
+    }
     if (stop_reached(m)) m->terminated = 1;
     update_flags(m);
     info->terminateSimulation = m->terminated ? fmi2True : fmi2False;
