@@ -184,6 +184,7 @@ def test_a_pi_speed_controller_around_the_fmu_reaches_its_set_point(tmp_path):
     mechanism.export_fmu(scene, {**params, M_CTRL: 0.0}, path, inputs=["motor"])
     description = fmpy.read_model_description(str(path))
     assert {v.name: v.causality for v in description.modelVariables}["M_ctrl"] == "input"
+    assert validate_fmu(str(path)) == []
     fmu = instantiated(path)
     moment = [v.valueReference for v in description.modelVariables if v.name == "M_ctrl"]
 
