@@ -356,3 +356,17 @@ def test_a_switch_that_chatters_stops_fmpys_run_with_an_error(tmp_path):
     disc.export_fmu(md.Scene("run", initial={phi: 0, md.speed(phi): 2}, t_end=3), {}, path)
     with pytest.raises(FMICallException, match="fmi2NewDiscreteStates"):
         fmpy.simulate_fmu(str(path), relative_tolerance=1e-10)
+
+
+@pytest.mark.slow
+def test_fmpy_builds_the_binary_from_the_fmus_sources_alone(exported, tmp_path):
+    # another platform builds the FMU from sources/: FMPy's own CMake build
+    if not shutil.which("cmake"):
+        pytest.skip("FMPy's build from sources needs cmake")
+    from fmpy.build import build_platform_binary
+    path, m, scene = exported["two_mass_drive"]
+    unpacked = Path(fmpy.extract(str(path), unzipdir=str(tmp_path / "unpacked")))
+    shutil.rmtree(unpacked / "binaries")
+    (tmp_path / "build").mkdir()
+    build_platform_binary(unpacked, build_dir=tmp_path / "build")
+    assert_agrees(unpacked, m.mechanism, scene, m.params)
