@@ -32,12 +32,12 @@ class Variable:
     derivative_of: int | None = None
 
 
-def unit_of(text: str, angle: bool = False):
-    """``(FMI unit name, base-unit exponents)`` of an SI unit text, ``None`` for a
-    dimensionless or fractional one; ``angle``: the quantity is an angle (``rad``), or
-    ``text`` starts with ``rad``."""
-    if text.startswith("rad"):
-        angle, text = True, "1" + text[len("rad"):]
+def unit_of(text: str):
+    """``(FMI unit name, base-unit exponents)`` of an SI unit text (``rad...`` for
+    angles), ``None`` for a dimensionless or fractional one."""
+    angle = text.startswith("rad")
+    if angle:
+        text = "1" + text[len("rad"):]
     if not text:
         return None
     exponents = {}

@@ -142,8 +142,8 @@ def _variables(mechanism, scene, eqs, code, p, marked, y0) -> tuple:
     """The variables in value-reference order and the units they use."""
     units = {}
 
-    def unit(text, angle=False):
-        found = unit_of(text, angle) if text else None
+    def unit(text):
+        found = unit_of(text) if text else None
         if found is None:
             return ""
         units[found[0]] = found[1]
@@ -176,7 +176,7 @@ def _variables(mechanism, scene, eqs, code, p, marked, y0) -> tuple:
     seen = {}
     for v in variables:
         if v.name in seen:
-            raise FmuError(f"scene {scene.name!r}: output {v.name!r} has the name of a "
+            raise FmuError(f"scene {scene.name!r}: {v.kind} {v.name!r} has the name of a "
                            f"{seen[v.name]}; an FMU's variables need distinct names "
                            "(label the output: outputs={'new name': ...})")
         seen[v.name] = v.kind
