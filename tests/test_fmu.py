@@ -90,6 +90,20 @@ def test_the_stop_condition_ends_fmpys_run_where_the_closed_form_says(exported):
     assert final[1] == pytest.approx(0.95 * steady, rel=1e-9)
 
 
+def test_a_parameter_set_in_fmpy_changes_the_run_as_it_changes_mechdyns(exported):
+    # a heavier load M_L = 100 N m: slower start-up, an earlier stop (lower steady speed)
+    path, m, scene = exported["motor_startup"]
+    names = states_of(path)
+    result = fmpy.simulate_fmu(str(path), relative_tolerance=1e-12, output=names,
+                               start_values={"M_L": 100.0})
+    params = {k: v for k, v in m.params.items() if str(k) != "M_L"} | {"M_L": 100.0}
+    reference = m.mechanism.simulate(scene, params)
+    assert result["time"][-1] == pytest.approx(reference.t_end, rel=RTOL)
+    assert result["time"][-1] != pytest.approx(fmpy_final(path, scene)[0], rel=1e-3)
+    for i, name in enumerate(names):
+        assert result[name][-1] == pytest.approx(reference.y[i, -1], rel=RTOL)
+
+
 def test_the_model_description_validates_with_units_starts_and_sources(exported):
     path, m, scene = exported["motor_startup"]
     assert validate_fmu(str(path)) == []
