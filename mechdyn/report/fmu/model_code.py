@@ -81,7 +81,11 @@ def model_code(eqs, scene, elements) -> ModelCode:
     output_what = [f"output {label!r}" for label, _, _ in outputs] + \
         ["kinetic energy", "potential energy"]
     stop_what = [f"stop condition {label!r}" for label, _, _ in stops]
+    legend = ["/* x = [" + ", ".join(map(str, (*eqs.q, *eqs.u))) + "]",
+              "   p = [" + ", ".join(s.name for s in params) + "]"]
+    legend += [f"   w[{k}]: the side of {f}" for k, f in enumerate(switches.functions)]
     source = "\n\n".join([
+        "\n".join(legend) + " */",
         c_function("md_system", states, locals_, system, what=system_what),
         c_function("md_outputs", states, locals_, [r(e) for e in output_exprs],
                    what=output_what),
