@@ -85,7 +85,7 @@ def model_code(eqs, scene, elements) -> ModelCode:
               "   p = [" + ", ".join(s.name for s in params) + "]"]
     legend += [f"   w[{k}]: the side of {f}" for k, f in enumerate(switches.functions)]
     source = "\n\n".join([
-        "\n".join(legend) + " */",
+        "\n".join(legend).replace("*/", "* /") + " */",
         c_function("md_system", states, locals_, system, what=system_what),
         c_function("md_outputs", states, locals_, [r(e) for e in output_exprs],
                    what=output_what),
