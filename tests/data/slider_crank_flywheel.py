@@ -16,7 +16,7 @@ mechanism = md.Mechanism("Slider-crank with flywheel", [phi], units={
     omega_s: "rad/s"})
 mechanism.link("flywheel", J=J_f, angle=phi)
 mechanism.link("slider", m=m_s, x=x_s)
-mechanism.load("motor", md.motors.kloss(M_k, s_k, omega_s)(md.speed(phi)), along=phi)
+mechanism.load("motor", md.motors.kloss(M_k, s_k, omega_s), along=phi)   # at phidot
 mechanism.friction("guide", F_r, along=x_s)
 mechanism.friction("brake", M_b, along=phi)
 
