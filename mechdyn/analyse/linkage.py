@@ -6,7 +6,7 @@ forces (numbers for the parameters given) and walks the independent coordinate: 
 position is solved by Newton's method with the analytic constraint Jacobian, warm-started
 from the previous one with a second-order predictor (``q + q' d phi + q'' d phi^2 / 2``),
 and the step is halved where Newton fails or the solution jumps, so one assembly branch
-is kept. Speeds and accelerations follow by implicit differentiation
+is kept, through change points too (:mod:`mechdyn.analyse.linkage_walk`). Speeds and accelerations follow by implicit differentiation
 (:mod:`mechdyn.derive.transmission`): ``q' = S``, ``G_d q_d'' = -bias(q, q')``.
 
 >>> import sympy as sp, mechdyn as md
@@ -35,12 +35,6 @@ from mechdyn.compile.linkage_code import LinkageFunctions
 from mechdyn.symbols import is_coordinate, t
 
 __all__ = ["Linkage", "LinkageError", "CrankSweep", "Singularity", "Grashof", "grashof"]
-
-_NEWTON_STEPS = 30
-_TOLERANCE = 1e-14          # |g| relative to the loop size
-_JUMP = 0.2                 # largest Newton correction of a continuation step (rad, m)
-_MAX_STEP = 0.25            # largest continuation step of the independent coordinate
-_MIN_STEP = 1e-13           # smallest step (relative): the loops close no further
 
 
 class LinkageError(MechdynError, ValueError):
@@ -105,9 +99,12 @@ class Linkage:
         default: the scene's initial values, else zero.
     scene : Scene, optional
         Selects the loads for the reduced moment; its initial values are the guess.
+    guess_at : float or sequence, optional
+        The independent coordinate(s) the guess belongs to (default: those in ``guess``,
+        else the scene's initial values, else zero): the linkage is assembled there.
     """
 
-    def __init__(self, mechanism, params=None, guess=None, scene=None):
+    def __init__(self, mechanism, params=None, guess=None, scene=None, guess_at=None):
         self.mechanism = mechanism
         self.eqs = eqs = mechanism.equations(scene)
         if not eqs.constraints:
@@ -123,10 +120,10 @@ class Linkage:
         self.functions = LinkageFunctions(eqs)
         self.p = self.functions.parameter_vector(params or {})
         self.params = dict(params or {})
-        self._last = self._start(guess, scene)
+        self._last = self._start(guess, scene, guess_at)
 
     # ------------------------------------------------------------- positions
-    def _start(self, guess, scene):
+    def _start(self, guess, scene, guess_at):
         q = np.zeros(self.n)
         values = dict(scene.initial) if scene is not None else {}
         values.update(guess or {})
@@ -134,44 +131,19 @@ class Linkage:
             name = key.func.__name__ if is_coordinate(key) else str(key)
             if name in self.names:
                 q[self.names.index(name)] = float(value)
+        if guess_at is not None:
+            at = np.atleast_1d(np.asarray(guess_at, dtype=float))
+            if at.shape != (len(self.independent),) or not np.all(np.isfinite(at)):
+                raise LinkageError(f"guess_at = {guess_at!r}: give one finite value for "
+                                   "each independent coordinate ("
+                                   f"{', '.join(self.names[i] for i in self.independent)})")
+            q[self.independent] = at
         return q
 
     def closure(self, q):
         """``(g, G)``: the loop residuals and their Jacobian at the positions ``q``."""
         v = self.functions.closure(0.0, np.concatenate([q, np.zeros(self.n)]), self.p)
         return np.array(v[:self.m]), np.array(v[self.m:]).reshape(self.m, self.n)
-
-    def _newton(self, q, damped=False):
-        """Close the loops from ``q`` moving the dependent coordinates; None if it fails.
-        Near a solution (continuation) a step must halve the residual, else the toggle
-        is near; ``damped`` (from a user's guess) halves steps until the residual falls."""
-        q = np.array(q, dtype=float)
-        g, grads = self.closure(q)
-        tolerance = _TOLERANCE * max(float(np.abs(grads).max()), 1e-300) * \
-            (1 + float(np.abs(q).max()))
-        residual = float(np.abs(g).max())
-        for _ in range(4 * _NEWTON_STEPS if damped else _NEWTON_STEPS):
-            if residual <= tolerance:
-                return q
-            try:
-                step = np.linalg.lstsq(grads[:, self.dependent], g, rcond=None)[0] if damped \
-                    else np.linalg.solve(grads[:, self.dependent], g)
-            except np.linalg.LinAlgError:
-                return None
-            previous = residual
-            for _ in range(30 if damped else 1):
-                trial = q.copy()
-                trial[self.dependent] -= step
-                g, grads = self.closure(trial)
-                residual = float(np.abs(g).max())
-                if residual < previous or not damped:
-                    break
-                step = step / 2
-            q = trial
-            if not np.isfinite(residual) or (not damped and not residual < 0.5 * previous
-                                               and residual > 1e3 * tolerance):
-                return None          # not converging quadratically: near a toggle
-        return q if residual <= 1e3 * tolerance else None
 
     def position(self, phi):
         """All coordinates at the independent value(s) ``phi``, continued from the last
@@ -187,42 +159,6 @@ class Linkage:
                 "see singularities(), crank_range())", at=float(target[0]))
         self._last = q
         return q
-
-    def _walk(self, q, target):
-        """Continue from ``q`` to the independent values ``target``. Returns the
-        positions there (or None) and the last independent values reached."""
-        start = self._newton(q, damped=True)
-        if start is None:
-            return None, q[self.independent]
-        q = start
-        step = np.full(len(self.independent), _MAX_STEP)
-        while np.max(np.abs(target - q[self.independent])) > 0:
-            step = np.sign(target - q[self.independent]) * np.minimum(
-                np.abs(step), np.abs(target - q[self.independent]))
-            predicted = self._predict(q, step)
-            solved = self._newton(predicted) if predicted is not None else None
-            if solved is not None and np.max(np.abs(solved - predicted)) <= _JUMP:
-                q = solved
-                step = np.minimum(2 * np.abs(step), _MAX_STEP)
-                continue
-            step = step / 2
-            if np.max(np.abs(step)) < _MIN_STEP * (1 + np.max(np.abs(target))):
-                return None, q[self.independent]
-        return q, q[self.independent]
-
-    def _predict(self, q, step):
-        """Second-order predictor ``q + S step + q'' step^2 / 2`` (first order for
-        several independent coordinates)."""
-        try:
-            matrix = self.velocity_matrix(q)
-        except np.linalg.LinAlgError:
-            return None
-        first = matrix @ step
-        predicted = q + first
-        if len(self.independent) == 1:
-            predicted = predicted + self._second(q, matrix[:, 0]) * step[0] ** 2 / 2
-        predicted[self.independent] = q[self.independent] + step
-        return predicted
 
     # -------------------------------------------------------------- derivatives
     def velocity_matrix(self, q):
@@ -339,7 +275,8 @@ class Linkage:
         from mechdyn.analyse.linkage_plots import plot_linkage
         return plot_linkage(self, path, points, paths)
 
-    # Analyses in their own module, bound here: singularities, ranges, four-bars.
+    # The continuation and the analyses in their own modules, bound here.
+    from mechdyn.analyse.linkage_walk import _newton, _predict, _walk, margin  # noqa: E402
     from mechdyn.analyse.linkage_limits import (coupler_curve, crank_range, describe,  # noqa: E402
                                  extremes, grashof, singularities, transmission_angle)
 
