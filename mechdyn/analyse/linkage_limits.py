@@ -25,14 +25,19 @@ quick-return time ratio.
 """
 from __future__ import annotations
 
+from itertools import combinations
+
 import numpy as np
 import sympy as sp
 from scipy.optimize import brentq, minimize_scalar, root
 
+from mechdyn.analyse.linkage_walk import NEAR_CHANGE, _weakest_row
+
 __all__ = ["singularities", "crank_range", "extremes", "grashof", "transmission_angle",
            "coupler_curve", "describe"]
 
-_CHANGE_POINT = 1e-7         # sigma_min / sigma_max of G below this: a change point
+_CHANGE_POINT = 1e-6         # rank margin of G below this: a change point (positions
+                             # there are accurate to about the root of the tolerance)
 
 
 def _limit(self, q_good, phi_good, phi_bad):
@@ -129,29 +134,51 @@ def singularities(self, start=None, points=721) -> list:
     return unique
 
 
-def _conditioning(self, q):
-    _, grads = self.closure(q)
-    values = np.linalg.svd(grads / np.linalg.norm(grads, axis=1, keepdims=True),
-                           compute_uv=False)
-    return values[-1] / values[0]
-
-
 def _change_points(self, angles, positions):
-    """Crank angles where ``G`` (all coordinates) nearly loses rank along a walk."""
-    ratio = np.array([_conditioning(self, positions[:, j]) for j in range(len(angles))])
+    """Crank angles where ``G`` (all coordinates) loses rank along a walk: local minima
+    of its rank margin, each refined (:func:`_crossing`) and kept where the margin
+    vanishes there."""
+    ratio = np.array([self.margin(positions[:, j]) for j in range(len(angles))])
     out = []
     for j in range(1, len(angles) - 1):
-        if ratio[j] <= ratio[j - 1] and ratio[j] <= ratio[j + 1] and ratio[j] < 1e-2:
-            def measure(value, q=positions[:, j - 1]):
-                reached, _ = self._walk(q, np.array([value]))
-                return 1.0 if reached is None else _conditioning(self, reached)
-            low, high = sorted((angles[j - 1], angles[j + 1]))
-            best = minimize_scalar(measure, bounds=(low, high), method="bounded",
-                                   options={"xatol": 1e-12})
-            if best.fun < _CHANGE_POINT:
-                q, _ = self._walk(positions[:, j - 1], np.array([best.x]))
-                out.append((float(best.x), _locking_row(self, q)))
+        if ratio[j] <= ratio[j - 1] and ratio[j] <= ratio[j + 1] and ratio[j] < NEAR_CHANGE:
+            angle, q = _crossing(self, positions[:, j - 1], angles[j - 1], angles[j + 1])
+            if q is not None and self.margin(q) < _CHANGE_POINT:
+                out.append((angle, _weakest_row(self, q)))
     return out
+
+
+def _crossing(self, q_before, low, high):
+    """The change point between the crank angles ``low`` and ``high`` (walked from
+    ``q_before`` at ``low``): where the largest ``m x m`` minor of ``G`` changes sign,
+    by bisection and then a secant through points 1e-4 rad either side (positions at
+    the change point itself are accurate only to the root of the tolerance); where no
+    minor changes sign, the least rank margin."""
+    def walked(value):
+        return self._walk(q_before, np.array([value]))[0]
+
+    def minors(value):
+        q = walked(value)
+        if q is None:
+            return np.full(1, np.nan)
+        grads = self.closure(q)[1]
+        return np.array([np.linalg.det(grads[:, list(c)]) for c in
+                         combinations(range(self.n), self.m)])
+    ends = minors(low), minors(high)
+    k = int(np.argmax(np.abs(ends[0]))) if np.all(np.isfinite(ends[0])) else 0
+    if len(ends[1]) > k and ends[0][k] * ends[1][k] < 0:
+        root = brentq(lambda v: minors(v)[k], low, high, xtol=1e-6)
+        h = 1e-4
+        left, right = minors(root - h)[k], minors(root + h)[k]
+        if np.isfinite(left) and np.isfinite(right) and left != right:
+            root = root - h + 2 * h * left / (left - right)
+    else:
+        def measure(value):
+            q = walked(value)
+            return 1.0 if q is None else self.margin(q)
+        root = minimize_scalar(measure, bounds=tuple(sorted((low, high))), method="bounded",
+                               options={"xatol": 1e-12}).x
+    return float(root), walked(float(root))
 
 
 def _locking_row(self, q):

@@ -8,22 +8,26 @@ constraint Jacobian ``G`` of all coordinates loses rank: two branches cross) the
 transmission functions are not determined by the position, so the walk predicts along
 the tangent it arrived with and accepts a step only if Newton moves the prediction by a
 small fraction of the step: the other branch leaves the crossing with another slope, and
-is never taken. Rank loss is measured by :func:`rank_margin`, the smallest singular
-value of ``G`` with its columns scaled to unit length: the same however the loop is
-turned or scaled (a column of a revolute term has the link's length as its norm).
+is never taken. Rank loss is measured by
+:func:`~mechdyn.compile.loop_numeric.rank_margin`.
 
->>> import numpy as np
->>> grads = np.array([[0.0, 0.0, 0.0], [0.1, 0.3, -0.1]])   # a parallelogram in line
->>> float(rank_margin(grads))
-0.0
->>> round(float(rank_margin(np.array([[0.0, -0.3], [0.1, 0.0]]))), 12)
-1.0
+>>> import numpy as np, mechdyn as md
+>>> phi, th, psi = md.coordinates("phi theta psi")
+>>> par = md.Mechanism("parallelogram", [phi, th, psi])
+>>> for name, angle in (("crank", phi), ("coupler", th), ("rocker", psi)):
+...     _ = par.link(name, J=1, angle=angle)
+>>> _ = par.loop("ABCD", (1, phi), (3, th), (-1, psi), (-3, 0))
+>>> linkage = md.Linkage(par, guess={th: 0, psi: 0.5}, guess_at=0.5)
+>>> [round(float(v), 12) + 0.0 for v in linkage.position(4.0)]   # through phi = pi
+[4.0, 0.0, 4.0]
 """
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["rank_margin", "NEAR_CHANGE", "CHANGE_POINT"]
+from mechdyn.compile.loop_numeric import rank_margin
+
+__all__ = ["margin", "NEAR_CHANGE", "CHANGE_POINT"]
 
 _NEWTON_STEPS = 30
 _TOLERANCE = 1e-14          # |g| relative to the loop size
@@ -34,19 +38,6 @@ _MIN_STEP = 1e-13           # smallest step (relative): the loops close no furth
 NEAR_CHANGE = 1e-2          # rank margin of G below this: near a change point
 CHANGE_POINT = 1e-7         # ... below this: at one (rank lost to rounding)
 _MEMORY = 16                # tangents remembered at positions walked to
-
-
-def rank_margin(grads, columns=None):
-    """The smallest of the ``m`` singular values of ``G`` (or of its ``columns``) with
-    every column scaled to unit length: 0 where the constraints lose rank, about 1
-    far from it."""
-    part = np.asarray(grads, dtype=float)
-    if columns is not None:
-        part = part[:, columns]
-    norms = np.linalg.norm(part, axis=0)
-    part = part / np.maximum(norms, 1e-12 * max(float(norms.max(initial=0.0)), 1e-300))
-    values = np.linalg.svd(part, compute_uv=False)
-    return float(values[min(part.shape) - 1]) if len(values) >= part.shape[0] else 0.0
 
 
 def margin(self, q, columns=None):

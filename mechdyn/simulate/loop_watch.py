@@ -15,12 +15,19 @@ and every minor is below :data:`~mechdyn.compile.loop_code.LOOP_MARGIN` times it
 start, the run stops with :class:`~mechdyn.compile.loop_code.LoopSingularError` naming the loop
 and the independent coordinates (otherwise a new segment watches the largest minor
 there). Without loops every method here does nothing.
+
+Approaching a change point the steps the solver accepts grow inaccurate (the loop solve's
+error grows like ``eps / margin^2``, with the rank margin of ``G``,
+:func:`~mechdyn.compile.loop_numeric.rank_margin`, about the distance to it), so
+:meth:`LoopWatch.trim` keeps of a run that stops there only the points before the last
+one whose margin is at least ``10 sqrt(eps / rtol)`` (the loop solve's error then
+below rtol / 100), and the error says how far short of the singular position they end.
 """
 from __future__ import annotations
 
 import numpy as np
 
-from mechdyn.compile.loop_numeric import LOOP_MARGIN, LoopSingularError
+from mechdyn.compile.loop_numeric import LOOP_MARGIN, LoopSingularError, rank_margin
 
 __all__ = ["LoopWatch"]
 
@@ -83,3 +90,27 @@ class LoopWatch:
             fit = np.linalg.lstsq(others.T, scaled[k], rcond=None)[0]
             residuals.append(np.linalg.norm(scaled[k] - others.T @ fit))
         return self.c.meta["loops"][int(np.argmin(residuals))]
+
+    def trim(self, trajectory, events, error, p):
+        """Cut a run stopped by ``error`` (a :class:`LoopSingularError`) back to its
+        last well-conditioned step point; the error's message and ``kept_until``
+        (time) say where the partial result ends and how far short of the singular
+        position."""
+        from mechdyn.simulate.assembly import _independent_text, closure_parts
+        times, states, _ = trajectory.points()
+        threshold = min(0.1, 10 * float(np.sqrt(np.finfo(float).eps / self.rtol)))
+        keep = len(times) - 1
+        while keep > 0 and rank_margin(closure_parts(self.c, times[keep], states[:, keep],
+                                                     p)[1]) < threshold:
+            keep -= 1
+        trajectory.truncate(times[keep])
+        events[:] = [event for event in events if event.time <= times[keep]]
+        singular = np.asarray(error.state, dtype=float)
+        gaps = ", ".join(f"{self.c.coordinates[i]} "
+                         f"{abs(singular[i] - states[i, keep]):.3g}"
+                         for i in self.c.independent)
+        error.kept_until = float(times[keep])
+        error.args = (f"{error}; error.partial ends at t = {times[keep]:.9g} s "
+                      f"({_independent_text(self.c, states[:, keep])}), {gaps} short of "
+                      "the singular position: the last step point where the loops are "
+                      f"well-conditioned (rank margin of G >= {threshold:.2g})",)
