@@ -277,14 +277,19 @@ class Linkage:
 
     # The continuation and the analyses in their own modules, bound here.
     from mechdyn.analyse.linkage_walk import _newton, _predict, _walk, margin  # noqa: E402
-    from mechdyn.analyse.linkage_limits import (coupler_curve, crank_range, describe,  # noqa: E402
+    from mechdyn.analyse.linkage_limits import (coupler_curve, crank_range,  # noqa: E402
                                  extremes, grashof, singularities, transmission_angle)
+    from mechdyn.analyse.linkage_describe import describe  # noqa: E402
 
 
 @dataclass(frozen=True)
 class Grashof:
-    """Grashof's classification of a four-bar: ``kind`` in words, ``grashof`` (s + l
-    < p + q: some link turns fully), ``change_point`` (s + l = p + q), the link lengths
+    """Grashof's classification of a four-bar: ``kind`` in words ("crank-rocker",
+    "double-crank (drag link)", "double-rocker (Grashof)", "rocker-crank",
+    "triple-rocker (non-Grashof)"; at s + l = p + q: "parallelogram",
+    "anti-parallelogram" (the branch, from a linkage), "deltoid (kite)" or e.g.
+    "crank-rocker with change points"), ``grashof`` (s + l
+    <= p + q: some link turns fully), ``change_point`` (s + l = p + q), the link lengths
     ``shortest``, ``longest`` and which link is shortest, ``crank_turns`` (the input link
     makes full turns)."""
     kind: str
@@ -306,6 +311,8 @@ def grashof(ground, crank, coupler, rocker, tolerance=1e-12) -> Grashof:
     'crank-rocker (ground 3, crank 1, coupler 3, rocker 2.5; shortest: crank)'
     >>> grashof(2, 3, 3.5, 5).kind
     'triple-rocker (non-Grashof)'
+    >>> grashof(3, 1, 3, 1).kind, grashof(3, 3, 1, 1).kind    # s + l = p + q
+    ('parallelogram or anti-parallelogram', 'deltoid (kite)')
     """
     lengths = {"ground": abs(float(ground)), "crank": abs(float(crank)),
                "coupler": abs(float(coupler)), "rocker": abs(float(rocker))}
@@ -320,5 +327,10 @@ def grashof(ground, crank, coupler, rocker, tolerance=1e-12) -> Grashof:
     kind = {"ground": "double-crank (drag link)", "crank": "crank-rocker",
             "coupler": "double-rocker (Grashof)", "rocker": "rocker-crank"}[shortest]
     if change:
-        kind = "change point: " + kind
+        near = lambda x, y: abs(lengths[x] - lengths[y]) <= tolerance * ordered[3]  # noqa
+        kind = ("parallelogram or anti-parallelogram" if near("crank", "rocker") and
+                near("coupler", "ground") else "deltoid (kite)" if
+                (near("crank", "coupler") and near("rocker", "ground")) or
+                (near("crank", "ground") and near("coupler", "rocker")) else
+                f"{kind} with change points")
     return Grashof(kind, True, change, shortest, lengths, shortest in ("ground", "crank"))
