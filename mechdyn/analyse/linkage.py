@@ -191,8 +191,7 @@ class Linkage:
         """Positions, speeds and accelerations of all coordinates for the crank at
         ``phi`` turning at ``omega`` with acceleration ``eps`` (one-DOF)."""
         q = self.position(phi)
-        ratio = self.velocity_matrix(q)[:, 0]
-        second = self._second(q, ratio)
+        ratio, second = self.derivatives(q)
         return q, ratio * omega, ratio * eps + second * omega ** 2
 
     def sweep(self, phi) -> CrankSweep:
@@ -205,8 +204,7 @@ class Linkage:
         inertia, slope = np.zeros(len(phi)), np.zeros(len(phi))
         for j, value in enumerate(phi):
             q[:, j] = self.position(value)
-            ratio[:, j] = self.velocity_matrix(q[:, j])[:, 0]
-            second[:, j] = self._second(q[:, j], ratio[:, j])
+            ratio[:, j], second[:, j] = self.derivatives(q[:, j])
             inertia[j], slope[j] = self._inertia(q[:, j], ratio[:, j], second[:, j])
         return CrankSweep(phi, q, ratio, second, inertia, slope, self.names)
 
@@ -276,7 +274,8 @@ class Linkage:
         return plot_linkage(self, path, points, paths)
 
     # The continuation and the analyses in their own modules, bound here.
-    from mechdyn.analyse.linkage_walk import _newton, _predict, _walk, margin  # noqa: E402
+    from mechdyn.analyse.linkage_walk import (_newton, _predict, _walk,  # noqa: E402
+                                              derivatives, margin)
     from mechdyn.analyse.linkage_limits import (coupler_curve, crank_range,  # noqa: E402
                                  extremes, grashof, singularities, transmission_angle)
     from mechdyn.analyse.linkage_describe import describe  # noqa: E402

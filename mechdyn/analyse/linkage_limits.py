@@ -33,15 +33,13 @@ import numpy as np
 import sympy as sp
 from scipy.optimize import brentq, minimize_scalar, root
 
-from mechdyn.analyse.linkage_walk import _weakest_row
+from mechdyn.analyse.linkage_walk import CHANGE_POINT, _weakest_row
 from mechdyn.errors import MechdynError
 
 __all__ = ["singularities", "crank_range", "extremes", "grashof", "transmission_angle",
            "coupler_curve", "branch_sweep", "is_constant", "answers"]
 
 _SUSPECT = 0.5              # a local minimum of the rank margin below this is refined
-_CHANGE_POINT = 1e-6         # rank margin of G below this: a change point (positions
-                             # there are accurate to about the root of the tolerance)
 
 
 def answers(what):
@@ -168,7 +166,7 @@ def _change_points(self, angles, positions):
     for j in range(1, len(angles) - 1):
         if ratio[j] < ratio[j - 1] and ratio[j] <= ratio[j + 1] and ratio[j] < _SUSPECT:
             angle, q = _crossing(self, positions[:, j - 1], angles[j - 1], angles[j + 1])
-            if q is not None and self.margin(q) < _CHANGE_POINT:
+            if q is not None and self.margin(q) < CHANGE_POINT:
                 out.append((angle, _weakest_row(self, q)))
     return out
 
