@@ -18,10 +18,12 @@ there). Without loops every method here does nothing.
 
 Approaching a change point the steps the solver accepts grow inaccurate (the loop solve's
 error grows like ``eps / margin^2``, with the rank margin of ``G``,
-:func:`~mechdyn.compile.loop_numeric.rank_margin`, about the distance to it), so
-:meth:`LoopWatch.trim` keeps of a run that stops there only the points before the last
-one whose margin is at least ``10 sqrt(eps / rtol)`` (the loop solve's error then
-below rtol / 100), and the error says how far short of the singular position they end.
+:func:`~mechdyn.compile.loop_numeric.rank_margin`, about the distance to it), so a
+run stops with :class:`LoopSingularError` where the margin falls below ``sqrt(eps /
+rtol)`` (the loop solve's rounding above rtol: a crank may even turn back, short of the
+change point, on rounding), and :meth:`LoopWatch.trim` keeps only the points up to the
+last one whose margin is at least ten times that (that error below rtol / 100); the
+error says how far short of the singular position they end.
 """
 from __future__ import annotations
 
@@ -50,8 +52,27 @@ class LoopWatch:
 
         def drift(t, y):
             position, speed = self.c.drift(t, y, p)
-            return position > self.rtol * size or speed > self.rtol * size * speed_scale
+            if position > self.rtol * size or speed > self.rtol * size * speed_scale:
+                return True
+            self.check_margin(t, y, p)
+            return False
         return drift
+
+    def floor(self):
+        """The rank margin of ``G`` below which the loop solve's rounding (about
+        ``eps / margin^2``) exceeds rtol."""
+        return float(np.sqrt(np.finfo(float).eps / self.rtol))
+
+    def check_margin(self, t, y, p):
+        """Raise :class:`LoopSingularError` where the rank margin of ``G`` falls below
+        :meth:`floor`: the accelerations there are rounding, and a crank may turn back
+        short of a change point without any minor changing sign."""
+        from mechdyn.simulate.assembly import _independent_text, closure_parts
+        margin = rank_margin(closure_parts(self.c, t, y, p)[1])
+        if margin < self.floor():
+            raise LoopSingularError(self._weakest(t, y, p), t, y,
+                                    f" ({_independent_text(self.c, y)}, rank margin of G "
+                                    f"{margin:.2g})")
 
     def watched_minor(self, t, y, p):
         """``(index, direction)`` of the minor a segment starting at ``(t, y)`` watches
@@ -93,24 +114,36 @@ class LoopWatch:
 
     def trim(self, trajectory, events, error, p):
         """Cut a run stopped by ``error`` (a :class:`LoopSingularError`) back to its
-        last well-conditioned step point; the error's message and ``kept_until``
-        (time) say where the partial result ends and how far short of the singular
-        position."""
+        last well-conditioned step point (rank margin at least ten times
+        :meth:`floor`); the error's message and ``kept_until`` (time) say where the
+        partial result ends and how far short of the singular position (extrapolated
+        from the margins of the last two step points, the margin growing linearly
+        with the distance from it)."""
         from mechdyn.simulate.assembly import _independent_text, closure_parts
         times, states, _ = trajectory.points()
-        threshold = min(0.1, 10 * float(np.sqrt(np.finfo(float).eps / self.rtol)))
-        keep = len(times) - 1
-        while keep > 0 and rank_margin(closure_parts(self.c, times[keep], states[:, keep],
-                                                     p)[1]) < threshold:
+
+        def margin(j):
+            return rank_margin(closure_parts(self.c, times[j], states[:, j], p)[1])
+        threshold = min(0.1, 10 * self.floor())
+        keep, last = len(times) - 1, []
+        while keep > 0 and margin(keep) < threshold:
+            last.append(keep)
             keep -= 1
+        singular = np.asarray(error.state, dtype=float)[list(self.c.independent)]
+        if len(times) > 1:
+            j = len(times) - 1
+            m_last, m_before = margin(j), margin(j - 1)
+            if m_before > m_last:
+                x_last = states[list(self.c.independent), j]
+                x_before = states[list(self.c.independent), j - 1]
+                singular = x_last + m_last * (x_last - x_before) / (m_before - m_last)
         trajectory.truncate(times[keep])
         events[:] = [event for event in events if event.time <= times[keep]]
-        singular = np.asarray(error.state, dtype=float)
-        gaps = ", ".join(f"{self.c.coordinates[i]} "
-                         f"{abs(singular[i] - states[i, keep]):.3g}"
-                         for i in self.c.independent)
+        kept = states[list(self.c.independent), keep]
+        gaps = ", ".join(f"{self.c.coordinates[i]} {abs(s - k):.6g} short of {s:.9g}"
+                         for i, s, k in zip(self.c.independent, singular, kept))
         error.kept_until = float(times[keep])
         error.args = (f"{error}; error.partial ends at t = {times[keep]:.9g} s "
-                      f"({_independent_text(self.c, states[:, keep])}), {gaps} short of "
-                      "the singular position: the last step point where the loops are "
+                      f"({_independent_text(self.c, states[:, keep])}), {gaps}, the "
+                      "singular position: the last step point where the loops are "
                       f"well-conditioned (rank margin of G >= {threshold:.2g})",)
