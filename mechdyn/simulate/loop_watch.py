@@ -33,6 +33,10 @@ from mechdyn.compile.loop_numeric import LOOP_MARGIN, LoopSingularError, rank_ma
 
 __all__ = ["LoopWatch"]
 
+_PREFILTER = 0.1      # the rank margin is computed where G's largest minor falls below
+                      # this fraction of its size at the start (a minor is at most about
+                      # sqrt(n) margin times the largest column norm squared)
+
 
 class LoopWatch:
     """The closed loops of a compiled scene, watched during a run."""
@@ -68,6 +72,9 @@ class LoopWatch:
         :meth:`floor`: the accelerations there are rounding, and a crank may turn back
         short of a change point without any minor changing sign."""
         from mechdyn.simulate.assembly import _independent_text, closure_parts
+        minors = np.abs(np.asarray(self.c.loop_minors(t, y, p)))
+        if self.scale is not None and minors.max() > _PREFILTER * self.scale:
+            return                              # every minor large: far from rank loss
         margin = rank_margin(closure_parts(self.c, t, y, p)[1])
         if margin < self.floor():
             raise LoopSingularError(self._weakest(t, y, p), t, y,
