@@ -209,6 +209,10 @@ def _table():
         "class: triple-rocker", f"crank range {-math.degrees(TOGGLE):.4f} .. "
         f"{math.degrees(TOGGLE):.4f} deg", f"toggle of loop ABCD at phi = {-TOGGLE:.9g} rad",
         f"toggle of loop ABCD at phi = {TOGGLE:.9g} rad"]
+    mech, (phi, th, psi) = four_bar(0.1, 0.3, 0.3, 0.1, "kite")    # crank = frame
+    yield mech, {"guess": {phi: 0.5, th: 1.0, psi: 1.8}}, [     # A on D at phi = 0
+        "class: deltoid (kite)", "the crank turns fully",
+        "change point of loop ABCD at phi = 6.28318531 rad (360.0000 deg)"]
     mech, (phi, th, x) = slider_crank()
     ends = [math.sqrt((0.2 + 0.05) ** 2 - 0.02**2), math.sqrt((0.2 - 0.05) ** 2 - 0.02**2)]
     yield mech, {"guess": {th: 0, x: 0.25}}, [
@@ -218,9 +222,10 @@ def _table():
         f"{ends[1]:.6g} m at phi = {180 + math.degrees(math.asin(0.02 / 0.15)):.4f} deg"]
 
 
-@pytest.mark.parametrize("case", range(6), ids=["crank-rocker", "double-crank",
+@pytest.mark.parametrize("case", range(7), ids=["crank-rocker", "double-crank",
                                                "parallelogram", "anti-parallelogram",
-                                               "triple-rocker", "offset slider-crank"])
+                                               "triple-rocker", "deltoid",
+                                               "offset slider-crank"])
 def test_describe_states_class_singular_positions_and_range(case):
     mech, keywords, expected = list(_table())[case]
     text = md.Linkage(mech, **keywords).describe(points=91)

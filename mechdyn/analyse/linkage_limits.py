@@ -45,7 +45,19 @@ _SUSPECT = 0.5              # a local minimum of the rank margin below this is r
 def answers(what):
     """Decorate an analysis: a library's error inside it (scipy's, numpy's) becomes a
     :class:`~mechdyn.analyse.linkage.LinkageError` naming ``what`` it could not
-    determine; mechdyn's own errors pass."""
+    determine; mechdyn's own errors pass.
+
+    >>> @answers("the toggle")
+    ... def toggle(self):
+    ...     raise ValueError("no sign change")
+    >>> class Machine:
+    ...     mechanism = type("Mechanism", (), {"name": "press"})
+    >>> try:
+    ...     toggle(Machine())
+    ... except MechdynError as error:
+    ...     print(type(error).__name__, error)
+    LinkageError 'press': the toggle could not be determined (ValueError: no sign change)
+    """
     def wrap(function):
         @wraps(function)
         def analysis(self, *args, **kwargs):
