@@ -62,14 +62,6 @@ class Segment:
         self._steps += len(times)
         self._frozen = None
 
-    def truncate(self, t_keep):
-        """Drop the steps that end after ``t_keep`` (the start is always kept)."""
-        t, y, c = self.arrays()
-        keep = max(int(np.searchsorted(t, t_keep, side="right")), 1)
-        self._frozen = (t[:keep], y[:keep], c[:keep - 1])
-        self._chunks = [self._frozen]
-        self._t_end, self._y_end, self._steps = float(t[keep - 1]), y[keep - 1], keep - 1
-
     @property
     def t_start(self):
         return float(self._chunks[0][0][0])
@@ -120,6 +112,14 @@ class Segment:
                             np.concatenate([y for _, y, _ in self._chunks]), coefficients)
             self._chunks = [self._frozen]
         return self._frozen
+
+    def truncate(self, t_keep):
+        """Drop the steps that end after ``t_keep`` (the start is always kept)."""
+        t, y, c = self.arrays()
+        keep = max(int(np.searchsorted(t, t_keep, side="right")), 1)
+        self._frozen = (t[:keep], y[:keep], c[:keep - 1])
+        self._chunks = [self._frozen]
+        self._t_end, self._y_end, self._steps = float(t[keep - 1]), y[keep - 1], keep - 1
 
 
 class Trajectory:
