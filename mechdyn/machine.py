@@ -75,6 +75,15 @@ class Mechanism(declared.Mechanism):
         from mechdyn.derive.linear import linearize
         return linearize(self, scene, at, params, inputs, outputs)
 
+    def export_fmu(self, scene, params, path, inputs=(), start=None):
+        """Write ``scene`` as an FMI 2.0 Model Exchange FMU ``path`` (``.fmu``): C built
+        with the system compiler, parameters ``params`` as start values; ``inputs``:
+        parameters (or loads of one parameter) the FMU reads from outside; ``start``: a
+        state ``[q..., u...]`` replacing the scene's initial values
+        (:func:`mechdyn.report.fmu.export_fmu`)."""
+        from mechdyn.report.fmu import export_fmu
+        return export_fmu(self, scene, params or {}, path, inputs, start)
+
     def _repr_latex_(self):
         return self.equations()._repr_latex_()
 
