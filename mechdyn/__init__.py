@@ -48,6 +48,7 @@ _LAZY = {
     "AssemblyError": "simulate.assembly", "ModelFileError": "declare.model_file",
     "ReductionError": "derive.reduction", "CharacteristicError": "analyse.characteristics",
     **dict.fromkeys(["SweepError", "SweepFileError"], "analyse.sweep_file"),
+    **dict.fromkeys(["FmuError", "FmuCompilerError"], "report.fmu.build"),
     "duty_cycle": "analyse.cycle", "DutyCycleError": "analyse.cycle", "CycleResult": "analyse.cycle_result",
     "animate": "report.animation", "Film": "report.animation",
     **dict.fromkeys(["Linkage", "LinkageError", "CrankSweep", "Singularity", "Grashof",
