@@ -162,7 +162,10 @@ class Linkage:
 
     # -------------------------------------------------------------- derivatives
     def velocity_matrix(self, q):
-        """``S`` (n x k) at the closed positions ``q``: ``u = S u_i``."""
+        """``S`` (n x k) at the closed positions ``q``: ``u = S u_i`` (by implicit
+        differentiation: at a change point, where the loops do not determine it, use
+        :meth:`derivatives`, :meth:`state` or :meth:`sweep`: the limits along the
+        branch)."""
         _, grads = self.closure(q)
         k = len(self.independent)
         matrix = np.zeros((self.n, k))

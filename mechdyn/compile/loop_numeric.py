@@ -28,7 +28,8 @@ LOOP_MARGIN = 1e-6
 class LoopSingularError(SimulationError):
     """The loop constraints lost rank (a change point or a locked toggle): the motion of
     the linkage is not determined there. ``loop``: the constraint that became dependent
-    on the others; ``time``, ``state``."""
+    on the others; ``time``, ``state`` where the run stopped; after the run,
+    ``kept_until``: the time ``partial`` ends (its last well-conditioned step)."""
 
     def __init__(self, loop, t_value, state, detail=""):
         self.loop, self.time, self.state = loop, t_value, list(state)
