@@ -26,7 +26,7 @@ from mechdyn.simulate.contacts import jump
 from mechdyn.errors import SimulationError
 from mechdyn.simulate.events import Event
 from mechdyn.simulate.friction import FrictionModes, Mode
-from mechdyn.simulate.loop_watch import LoopWatch
+from mechdyn.simulate.loop_watch import LoopSingularError, LoopWatch
 from mechdyn.simulate.methods import (StiffnessMonitor, backend_plan, explicit_for, fallbacks,
                       motion_jacobian, segment_tolerances, stiff_for)
 from mechdyn.simulate.result import Result
@@ -128,6 +128,8 @@ class Driver:
                     method, h = self._choose(mode, t, y, method), None
         except SimulationError as error:
             self._finish()
+            if isinstance(error, LoopSingularError):
+                self.loops.trim(self.trajectory, self.events, error, self.modes.p(Mode()))
             error.partial = self._result("failed: " + str(error))
             if not str(error).startswith("integration"):
                 error.args = (f"integration failed: {error}",)
