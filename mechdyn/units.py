@@ -28,7 +28,7 @@ from fractions import Fraction
 
 import numpy as np
 
-from mechdyn.errors import MechdynError
+from mechdyn.errors import MechdynError, did_you_mean
 from mechdyn.parse import ValueTextError, quantity, unit_terms
 
 __all__ = ["UnitError", "Dimension", "DIMENSIONLESS", "to_si", "dimension", "convert",
@@ -162,6 +162,11 @@ def _facts(terms) -> dict:
     return _KNOWN[key]
 
 
+_COMMON = ("rpm", "rps", "rad", "deg", "degree", "rev", "turn", "N", "kN", "MN", "kg", "g",
+           "t", "m", "mm", "cm", "km", "s", "ms", "min", "h", "W", "kW", "MW", "J", "kJ", "Pa",
+           "kPa", "MPa", "GPa", "bar", "Hz")       # suggested first for a misspelt unit
+
+
 def _facts_from_pint(terms) -> dict:
     reg = registry()
     unit = reg.dimensionless
@@ -169,7 +174,8 @@ def _facts_from_pint(terms) -> dict:
         try:
             unit = unit * reg.Unit(name) ** power
         except Exception:           # pint's UndefinedUnitError and parse errors
-            raise UnitError(f"unknown unit {name!r}") from None
+            hint = did_you_mean(name, _COMMON) or did_you_mean(name, list(reg._units))
+            raise UnitError(f"unknown unit {name!r}{hint}") from None
     base = reg.Quantity(1.0, unit).to_base_units()
     if reg.Quantity(0.0, unit).to_base_units().magnitude != 0:
         raise UnitError(f"{_text(terms)} has an offset (like degC); give such values in "

@@ -279,7 +279,7 @@ class Result:
     def summary(self, units=None) -> str:
         """A few lines: how it ended, final and peak values, events, cost. ``units``
         shows columns in other units (``{"speed": "rpm", "power": "kW"}``)."""
-        from mechdyn.display import Display, column_units, cost_line
+        from mechdyn.display import Display, column_units, cost_line, event_groups
         shown, si = Display(units), column_units(self)
         shown.check(si)
         lines = [f"{self.mechanism_name} — scene {self.scene.name!r}: ended at "
@@ -298,10 +298,10 @@ class Result:
         for label, values in self.outputs.items():
             values, unit = shown.values(label, si[label],
                                         np.array([values[-1], self.peak(label)[1]]))
-            unit = f" {unit}" if unit else ""
-            lines.append(f"  {label}: peak {values[1]:.6g}{unit}, final {values[0]:.6g}{unit}")
-        for event in self.events:
-            lines.append(f"  {event}")
+            unit = f" {unit}" if unit else ""                # once, after both
+            lines.append(f"  {label}: peak {values[1]:.6g}, final {values[0]:.6g}{unit}")
+        lines += [f"  {text}" for text, _, _ in event_groups(self.events, self.t[0],
+                                                              self.t_end)]
         lines.append(f"  {cost_line(self.stats)}")
         return "\n".join(lines)
 
