@@ -153,12 +153,14 @@ def _facts(terms) -> dict:
     """Dimension, SI factor, angle power and flags of unit terms, remembered in memory
     and in the cache folder (pint is imported only for units never seen before)."""
     key = "*".join(f"{name}^{power}" for name, power in terms)
-    if key in _KNOWN:
-        return _KNOWN[key]
-    _load_disk()
+    if key not in _KNOWN:
+        _load_disk()
     if key not in _KNOWN:
         _KNOWN[key] = _facts_from_pint(terms)
         _save_disk()
+    if "number_" in _KNOWN[key]["reads"]:        # pint: "Nm" is number_meter, 1e-9 m
+        raise UnitError(f"{_text(terms)!r} would be read as {_KNOWN[key]['reads']} "
+                        "(pint's reading), not newton metres: write N*m (or kN*m)")
     return _KNOWN[key]
 
 

@@ -252,3 +252,13 @@ def test_display_units_in_summary_csv_and_plot(tmp_path):
     assert "motor [kN*m]" in header and "power:motor [W]" in header
     with pytest.raises(md.MechdynError, match="neither a kind"):
         result.summary(units={"sped": "rpm"})
+
+
+@pytest.mark.parametrize("text", ["3 Nm", "3 kNm", "3 Nm", "3 kNm"])   # twice: remembered
+def test_newton_metres_written_nm_are_refused_not_read_as_a_length(text):
+    # pint reads "Nm" as number_meter (a length, 1e-9 m): "3 Nm" was 3e-9 silently,
+    # "3 kNm" 3e6 with no unit expected. An engineer writing Nm means N*m.
+    with pytest.raises(md.UnitError, match="N\\*m"):
+        md.to_si(text)
+    with pytest.raises(md.UnitError, match="N\\*m"):
+        md.to_si(text, "N*m")
