@@ -93,6 +93,6 @@ class TimeEvents:
             if s == 0:
                 continue
             if side != 0 and s != side and direction in (0, s):
-                return locate(g, t_old, self.grid[k], side, False, direction)
+                return float(locate(g, t_old, self.grid[k], side, False, direction))
             side, t_old = s, self.grid[k]
         return np.inf
