@@ -167,6 +167,9 @@ def generate(eqs, scene, elements) -> tuple:
         + [["domain", label] for label, _ in domains],
         "periods": len(periods),
         "timed": timed,
+        "revolving": _revolving([mass_matrix, forcing] + magnitudes + [
+            e for exprs in locked.values() for e in exprs] + [
+            c.expression for c in eqs.constraints], eqs.q),
         "autonomous": not any(t in sp.sympify(e).free_symbols
                               for e in [mass_matrix, forcing] + magnitudes),
         "eliminated": {c.func.__name__: str(e) for c, e in eqs.eliminated.items()},
@@ -312,6 +315,20 @@ def _forcing_periods(expressions, states) -> list:
                         if period not in periods:
                             periods.append(period)
     return periods
+
+
+def _revolving(expressions, coordinates) -> list:
+    """The indices of the coordinates the equations repeat in after a turn of 2 pi
+    (they enter only through sines and cosines): their size means nothing, and the
+    error control weighs them on the scale of one revolution."""
+    expressions = [sp.sympify(e) for e in expressions]
+    found = []
+    for i, q in enumerate(coordinates):
+        turned = {q: q + 2 * sp.pi}
+        if any(e.has(q) for e in expressions) and \
+                all(e.xreplace(turned) == e for e in expressions):
+            found.append(i)
+    return found
 
 
 def _of_time_alone(expr) -> bool:

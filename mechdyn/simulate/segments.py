@@ -99,7 +99,7 @@ def scipy_runner(context, mode, method, t0, y0, t_end, h, watched, rtol, atol, m
     max_step = context.max_step if mode.groups else context.period_step
     return ScipySegment(method, fun, jac, t0, y0, t_end, rtol, atol, segment, watch,
                         monitor, first_step=h, max_step=max_step, min_step=min_step,
-                        drift=drift)
+                        drift=drift, revolving=c.meta.get("revolving", ()))
 
 
 def compiled_runner(context, functions, mode, method, t0, y0, t_end, h, watched, rtol,
@@ -136,7 +136,7 @@ def _event_watch(c, modes, mode, p, watched):
                          for w in watched])
     watch = EventWatch(values, [w.direction for w in watched],
                        [w.side != 0 and w.kind != "switch" for w in watched],
-                       interior=2 if mode.groups else 0)
+                       interior=2 if mode.groups else 1)   # the middle: as the kernels
     watch.start_sides = {k: w.side for k, w in enumerate(watched) if w.kind == "switch"}
     watch.muted[[w.timed for w in watched]] = True     # the driver ends the segment there
     return watch
