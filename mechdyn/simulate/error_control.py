@@ -22,7 +22,7 @@ means"):
 ...                            rtol=1e-8, atol=1e-10, revolving=[0])
 >>> while solver.status == "running":
 ...     _ = solver.step()
->>> round(float(solver.t), 6), solver.y[0] > 60                   # it went over the top
+>>> round(float(solver.t), 6), bool(solver.y[0] > 60)             # it went over the top
 (50.0, True)
 """
 from __future__ import annotations
