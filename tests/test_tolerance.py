@@ -94,10 +94,7 @@ def test_global_error_falls_as_the_tolerance_tightens(path, name, backend):
         options = {"rtol": rtol, "atol": rtol * 1e-2} | ({"method": method} if method else {})
         return model.mechanism.simulate(dataclasses.replace(scene, **options), model.params,
                                         backend=on)
-    if backend == "compiled" and "clutch_engagement" in path:
-        pytest.skip("the compiled backend cannot start this scene (201 events at t = 0), "
-                    "reported with issue 27")
-    other = "compiled" if backend == "scipy" and "clutch_engagement" not in path else "scipy"
+    other = "compiled" if backend == "scipy" else "scipy"
     reference = run(1e-12, other, "DOP853")
     times = np.linspace(reference.t[0], reference.t_end, 201)
     assert _global_error(run(1e-12, backend, "DOP853"), reference, times) < 1e-9
