@@ -122,8 +122,9 @@ def generate(eqs, scene, elements) -> tuple:
         + [r(m) for m in magnitudes] + [r(e) for e in locked["gap"]] \
         + [r(e) for e in switches.functions] + [r(e) for _, e in domains]
     first_switch = len(stops) + 2 * len(frictions) + len(contacts)
-    timed = [i for i in list(range(len(stops))) + list(range(
-        first_switch, first_switch + len(switches.functions))) if _of_time_alone(event_exprs[i])]
+    candidates = [*range(len(stops)), *range(first_switch,
+                                              first_switch + len(switches.functions))]
+    timed = [i for i in candidates if _of_time_alone(event_exprs[i])]   # stops, switches
     if constraints:      # closed loops: rhs solves M a = f + G' lambda, G a = -bias
         from mechdyn.compile.loop_code import loop_sources
         loops = loop_sources(eqs, mass, force, rename, source, states)
