@@ -201,8 +201,9 @@ class Driver:
                 continue
             if outcome.status != "failed":
                 check_finite(self.c, outcome.t, outcome.y)
-            if outcome.status == "finished" and timed:      # a crossing of t alone
-                outcome.status, outcome.fired = "event", timed
+            if timed and outcome.status in ("finished", "event") and outcome.t >= t_stop:
+                outcome.status = "event"                    # a crossing of t alone
+                outcome.fired = sorted(set(outcome.fired) | set(timed))
             return outcome, run.h
 
     def _count(self, counts, counted, method, backend):
