@@ -19,7 +19,9 @@ import numpy as np
 
 from mechdyn.errors import MechdynError
 
-__all__ = ["KINDS", "Display", "column_units", "kind_of", "cost_line"]
+__all__ = ["KINDS", "Display", "column_units", "kind_of", "cost_line", "tidy", "ROUNDING"]
+
+ROUNDING = 64 * np.finfo(float).eps   # relative to its scale, a value this small is 0
 
 # kind -> its SI unit (the text columns carry)
 KINDS = {"angle": "rad", "speed": "rad/s", "acceleration": "rad/s^2", "length": "m",
@@ -74,6 +76,23 @@ class Display:
                                f"({', '.join(columns)})")
         for column, si in columns.items():
             self.values(column, si, [0.0])
+
+
+def tidy(values, scale=None) -> np.ndarray:
+    """``values`` as a summary shows them: within rounding of zero relative to ``scale``
+    (the quantity's largest magnitude in the run; default the largest of ``values``)
+    they are exactly 0, and no zero is negative (a flywheel at rest, not -7.8e-16 rad/s
+    or -0 J).
+
+    >>> tidy([10.2337, -7.77156e-16, -0.0]).tolist()
+    [10.2337, 0.0, 0.0]
+    >>> tidy([1.0388e-28], scale=18018.0).tolist(), tidy([1e-9], scale=1.0).tolist()
+    ([0.0], [1e-09])
+    """
+    values = np.asarray(values, dtype=float)
+    if scale is None:
+        scale = np.max(np.abs(values), initial=0.0)
+    return np.where(np.abs(values) <= ROUNDING * abs(scale), 0.0, values) + 0.0
 
 
 def column_units(result) -> dict:

@@ -9,7 +9,9 @@ located by the Illinois variant of regula falsi on the dense output until the br
 is narrower than 4 eps |t|; the reported time is the bracket's end on the new side, so
 g there already has its new sign (or is 0). Zeros never count as a sign: a g that is
 exactly 0 at the start of a run takes its sign from its first non-zero sample and
-fires only on a later crossing. The earliest root wins; every event whose root lies
+fires only on a later crossing; one whose caller set its side while zero (an event
+whose zero counts as before the crossing) fires at the first point beyond that zero,
+never at it. The earliest root wins; every event whose root lies
 within 16 eps max(|t|) of it fires with it.
 
 Limitation: a g that crosses and re-crosses zero between two samples (within one step,
@@ -57,8 +59,11 @@ def _root(events, p, i, t_old, h, poly, ta, ga, tb, gb, y_work, g_work, counts):
     side = 0
     checked_width = tb - ta
     for iteration in range(MAX_ITERATIONS):
-        if ga == 0.0:
+        if ga == 0.0 and ta > t_old:
             return ta
+        # a zero at the step's start counts as the old side (an event whose zero is
+        # "before", e.g. a clutch's normal force ramping up from 0): bisect towards it
+        # for the first point on the new side
         width = tb - ta
         if width <= 4.0 * EPS * max(abs(ta), abs(tb)):
             break
