@@ -30,6 +30,7 @@ import tempfile
 from pathlib import Path
 
 from mechdyn import cache
+from mechdyn.atomic import write_text
 
 __all__ = ["available", "numba_functions"]
 
@@ -123,7 +124,7 @@ def _import(folder, key, text):
     folder.mkdir(mode=0o700, parents=True, exist_ok=True)
     path = folder / f"mechdyn_model_{key}.py"
     if not path.exists():
-        path.write_text(text)
+        write_text(path, text)
     name = f"mechdyn_model_{key}"
     spec = importlib.util.spec_from_file_location(name, path)
     module = importlib.util.module_from_spec(spec)

@@ -58,7 +58,8 @@ class Report:
 
     def write(self, path):
         """Save the page (UTF-8) and return the path."""
-        Path(path).write_text(self.html, encoding="utf-8")
+        from mechdyn.atomic import write_text
+        write_text(path, self.html)
         return path
 
 
