@@ -117,7 +117,10 @@ def generate(eqs, scene, elements) -> tuple:
         ("contact_gap", (len(contacts),), [r(e) for e in locked["gap"]]),
         ("contact_restitution", (len(contacts),), [r(e) for e in locked["restitution"]]),
         ("gear_law", (len(gears), 4), [r(e) for e in locked["law"]])])
-    domains = domain_conditions(eqs, elements, state)
+    domains = domain_conditions(eqs, elements, state) + [
+        (f"output {label!r} = {_written(expr)}", g)
+        for (label, expr, _), plain in zip(outputs, output_exprs)
+        for g in _domain_arguments(plain) if g.free_symbols & state and not g.is_nonnegative]
     event_exprs = [r(e) for _, e in stops] + [r(fr.rate) for fr in frictions] \
         + [r(m) for m in magnitudes] + [r(e) for e in locked["gap"]] \
         + [r(e) for e in switches.functions] + [r(e) for _, e in domains]
