@@ -52,7 +52,7 @@ def generate(eqs, scene, elements) -> tuple:
     outputs = scene_outputs(eqs, scene, elements)
     stops = [] if scene is None else [
         (repr(c), eqs.to_plain(c.expression - c.value)) for c in scene.until]
-    signs = safe_symbols("_s", len(frictions))
+    signs = safe_symbols("s", len(frictions))
     switches = Switches(set(eqs.q) | set(eqs.u) | {t})
     magnitudes = [switches.lock(slip_signed(fr, sign)) for fr, sign in zip(frictions, signs)]
     contacts, gears = eqs.contacts, eqs.gears
@@ -264,7 +264,7 @@ class Switches:
                 return self.flags[known[key]], orientation
         known[g] = len(self.functions)
         self.functions.append(g)
-        self.flags.append(sp.Symbol(f"_w{len(self.flags)}", real=True))
+        self.flags.append(sp.Symbol(f"w{len(self.flags)}", real=True))
         return self.flags[-1], 1
 
 

@@ -21,8 +21,10 @@ from mechdyn.symbols import dotted_symbol, t
 
 __all__ = ["check_coordinates", "check_parameters", "generated_names"]
 
-# Symbols the code generator makes (friction signs, sides of switching functions).
-_INTERNAL = re.compile(r"_[sw]\d+")
+# Symbols the code generator makes (friction signs, sides of switching functions: real
+# symbols s0, s1, ..., w0, w1, ...); a parameter is one of them only if it is named so
+# and declared real=True alone.
+_INTERNAL = re.compile(r"[sw]\d+")
 
 
 def generated_names(coordinates) -> dict:
@@ -60,9 +62,11 @@ def check_parameters(what, expr, known: dict, coordinates):
         if name in reserved:
             raise DeclarationError(f"{what}: the parameter {name} has the name of "
                                    f"{reserved[name]}; rename the parameter")
-        if _INTERNAL.fullmatch(name):
-            raise DeclarationError(f"{what}: the parameter {name} has a name mechdyn "
-                                   "gives its own symbols (_s0, _w0, ...); rename it")
+        if _INTERNAL.fullmatch(name) and symbol == sp.Symbol(name, real=True):
+            raise DeclarationError(f"{what}: the parameter {name} declared real=True is "
+                                   "one of the symbols mechdyn makes for itself (friction "
+                                   "signs s0, s1, ..., switch sides w0, w1, ...); rename it "
+                                   "or declare it otherwise (positive=True, ...)")
         if name in known and known[name][0] != symbol:
             other, where = known[name]
             raise DeclarationError(
