@@ -30,7 +30,7 @@ from mechdyn.simulate.loop_watch import LoopSingularError, LoopWatch
 from mechdyn.simulate.methods import (StiffnessMonitor, backend_plan, explicit_for, fallbacks,
                       motion_jacobian, segment_tolerances, stiff_for)
 from mechdyn.simulate.result import Result
-from mechdyn.simulate.run_checks import Budget, check_finite, check_mass, diagnosis, state_text
+from mechdyn.simulate.run_checks import Budget, check_finite, check_mass, check_scales, diagnosis, state_text
 from mechdyn.simulate.segments import compiled_runner, scipy_runner, watched_events
 from mechdyn.simulate.time_events import time_events
 from mechdyn.simulate.trajectory import Segment, Trajectory
@@ -85,6 +85,7 @@ class Driver:
                                      self.periods)
             terms = self._start_terms(t, y)
             self.mass_scale = check_mass(self.c, terms, t, y)
+            check_scales(self.c, terms, t, y, self.scene.name)
             muted, instant, count, h = set(), None, 0, None
             y, touching, resting = jump(self.modes, t, y, None, (), self.events)
             mode = self.modes.decide(t, y, self._flags(t, y, Mode(), muted),
