@@ -36,6 +36,7 @@ from __future__ import annotations
 
 import sympy as sp
 from mechdyn.compile.codegen import function_source, safe_symbols
+from mechdyn.compile.table_code import table_constants
 from mechdyn.declare.elements import Constraint
 from mechdyn.compile.output_code import friction_signed, outputs as scene_outputs, slip_signed
 from mechdyn.symbols import t
@@ -189,7 +190,7 @@ def generate(eqs, scene, elements) -> tuple:
         meta["multiplier_outputs"] = {label: meta["constraints"].index(label)
                                       for label, _, _ in outputs
                                       if label in meta["constraints"]}
-    return meta, "\n".join(sources)
+    return meta, table_constants(everything) + "\n".join(sources)
 
 
 # ------------------------------------------------------------------ switching points
