@@ -39,7 +39,7 @@ def replacing(path, mode="w", **options):
         os.replace(temporary, path)
     except OSError as error:
         raise OutputError(f"cannot write {path}: {_reason(error)}; "
-                          f"{'the old file is kept' if path.exists() else 'nothing written'}"
+                          f"{'the old file is kept' if path.is_file() else 'nothing written'}"
                           ) from error
     finally:
         try:

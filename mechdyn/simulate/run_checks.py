@@ -69,10 +69,10 @@ def check_scales(compiled, terms, t, y, name):
         if len(sizes) and (sizes.max() > COMFORT or sizes.min() < 1 / COMFORT):
             worst = sizes.max() if sizes.max() > COMFORT else sizes.min()
             raise SimulationError(
-                f"scene {name!r}: {what} at the start has a value of magnitude "
-                f"{worst:.3g}, far outside the range floating-point arithmetic handles "
-                f"safely ({1 / COMFORT:.0e} to {COMFORT:.0e}); state the model in other "
-                "units (e.g. mm, g, ms) so its numbers come nearer to 1")
+                f"scene {name!r}: a value of magnitude {worst:.3g} in {what} at the start "
+                f"lies far outside the range floating-point arithmetic handles safely "
+                f"({1 / COMFORT:.0e} to {COMFORT:.0e}); state the model in other units "
+                "(e.g. mm, g, ms) so its numbers come nearer to 1")
 
 
 def check_finite(compiled, t, y):
