@@ -59,15 +59,17 @@ def check_mass(compiled, terms, t, y) -> float:
 
 def check_scales(compiled, terms, t, y, name):
     """Refuse a start whose inertias, forces or state lie far outside floating-point
-    comfort (beyond ``1e150`` or, not zero, below ``1e-150``): such a run fails in the
-    solvers' linear algebra or ends with a wrong answer; other units cure it."""
+    comfort (beyond ``1e150``, or an inertia below ``1e-150``: accelerations of its
+    inverse size): such a run fails in the solvers' linear algebra or ends with a wrong
+    answer; other units cure it. (Small forces and states are harmless.)"""
     parts = [(_SCALED[key], np.ravel(terms[key])) for key in _SCALED if key in terms]
     parts.append((f"the initial state ({state_text(compiled, y)})", np.ravel(y)))
     parts.append(("the start time t", np.array([t])))
     for what, values in parts:
         sizes = np.abs(values[np.isfinite(values) & (values != 0)])
-        if len(sizes) and (sizes.max() > COMFORT or sizes.min() < 1 / COMFORT):
-            worst = sizes.max() if sizes.max() > COMFORT else sizes.min()
+        tiny = what == _SCALED["mass"] and len(sizes) and sizes.max() < 1 / COMFORT
+        if len(sizes) and (sizes.max() > COMFORT or tiny):
+            worst = sizes.max()
             raise SimulationError(
                 f"scene {name!r}: a value of magnitude {worst:.3g} in {what} at the start "
                 f"lies far outside the range floating-point arithmetic handles safely "
