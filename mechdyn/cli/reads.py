@@ -55,7 +55,8 @@ class Reads:
         self.relative = False
         self.everything = False       # the whole environment was read
         self.unverifiable = ""        # why the record cannot be checked, if so
-        self._written = set()
+        self._written = set()         # variables it set itself (not read from outside)
+        self._modules = []            # modules imported while watched
 
     def note(self, event, args):
         if event == "open":
