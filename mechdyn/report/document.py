@@ -15,7 +15,6 @@ of :mod:`mechdyn.analyse.precision`.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from pathlib import Path
 
 import sympy as sp
 from sympy.core.function import AppliedUndef
