@@ -285,6 +285,7 @@ def test_an_output_leaving_its_domain_is_a_named_error_with_the_partial_result()
     assert partial.t[-1] == pytest.approx(1.0, rel=1e-9)      # phi = t^2/2 = 1/2
     early = partial.t < 0.99
     assert np.allclose(partial.outputs["o"][early], np.sqrt(0.5 - partial.t[early] ** 2 / 2))
+    assert partial.peak("o") == pytest.approx((0.0, math.sqrt(0.5)))     # at the start
 
 
 def test_the_command_line_writes_the_partial_result_of_an_output_out_of_domain(

@@ -282,7 +282,9 @@ class Result:
                 return self.trajectory.at(at)[which]
             return self.outputs_at(at)[which]
         sampled = np.abs(values(times))
-        best = int(np.argmax(sampled))
+        finite = np.isfinite(sampled)        # a partial result's outputs may end in NaN
+        best = int(np.argmax(np.where(finite, sampled, -1.0))) if finite.any() else -1
+        best %= len(times)
         low, high = times[max(best - 1, 0)], times[min(best + 1, len(times) - 1)]
         if high > low:
             from scipy.optimize import minimize_scalar
