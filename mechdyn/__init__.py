@@ -13,7 +13,7 @@ from mechdyn.version import __version__
 from importlib import import_module
 
 from mechdyn.errors import (DeclarationError, DerivationError, MechdynError, MechdynWarning,
-                     ParameterError, SceneError, SimulationError)
+                     OutputError, ParameterError, SceneError, SimulationError)
 
 # Public names loaded on first use: name -> module.
 _LAZY = {
@@ -65,7 +65,7 @@ __all__ = [
     "Scene", "stopped", "reaches", "Model", "load_model",
     "t", "coordinate", "coordinates", "speed", "acceleration", "plain",
     "MechdynError", "MechdynWarning", "DeclarationError", "DerivationError", "SceneError",
-    "ParameterError", "SimulationError",
+    "ParameterError", "SimulationError", "OutputError",
     *_LAZY, *_LAZY_MODULES,
 ]
 

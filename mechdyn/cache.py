@@ -31,6 +31,7 @@ import hmac
 import json
 import os
 import secrets
+import shutil
 import stat
 import warnings
 from pathlib import Path
@@ -43,6 +44,7 @@ KEY_NAME = "key"
 _KEY_BYTES = 32
 _MAGIC = b"mechdyn-cache-1 "
 _DISABLED = ("off", "0", "no", "false")
+MAX_ENTRY_BYTES = 64 << 20     # larger entries are not read (a planted sparse file)
 _warned: set = set()           # (directory, reason) pairs already warned about
 _read_only: set = set()        # directories that refused a write: no more attempts
 
@@ -83,10 +85,16 @@ def load_bytes(name: str) -> bytes | None:
     directory, key = _directory_and_key(create=False)
     if key is None:
         return None
+    path = directory / _checked(name)
     try:
-        with _open_private(directory / _checked(name)) as handle:
-            blob = handle.read()
-    except OSError:
+        with _open_private(path) as handle:
+            blob = handle.read(MAX_ENTRY_BYTES + 1)
+    except _Untrusted:                    # a directory, FIFO, huge or foreign file
+        _discard(path)
+        return None
+    except OSError as error:
+        if error.errno == errno.ELOOP:    # a symbolic link
+            _discard(path)
         return None
     header, newline, data = blob.partition(b"\n")
     if not newline or not header.startswith(_MAGIC):
@@ -189,7 +197,8 @@ def _key(directory: Path, create: bool) -> bytes | None:
         _write_new(temporary, key)
         try:
             if problem:
-                os.replace(temporary, path)        # the old key is not to be trusted
+                _discard(path)                     # the old key is not to be trusted
+                os.replace(temporary, path)
             else:
                 os.link(temporary, path)           # a concurrent run may have made one
         except FileExistsError:
@@ -208,17 +217,22 @@ class _Untrusted(OSError):
 
 
 class _open_private:
-    """Open a regular file for reading without following symbolic links, checking it
-    is owned by this user and not writable (nor, for the key, readable) by others."""
+    """Open a regular file for reading without following symbolic links and without
+    blocking (a FIFO in its place), checking it is a regular file of at most
+    ``MAX_ENTRY_BYTES``, owned by this user and not writable (nor, for the key,
+    readable) by others."""
 
     def __init__(self, path: Path):
         self.path = path
-        self.fd = os.open(path, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0))
+        self.fd = os.open(path, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0)
+                          | getattr(os, "O_NONBLOCK", 0))
 
     def __enter__(self):
         try:
             info = os.fstat(self.fd)
             problem = _untrusted(info, "file", secret=self.path.name == KEY_NAME)
+            if not problem and info.st_size > MAX_ENTRY_BYTES:
+                problem = f"holds {info.st_size} bytes, more than {MAX_ENTRY_BYTES}"
             if problem:
                 raise _Untrusted(problem)
             self.handle = os.fdopen(self.fd, "rb")
@@ -287,10 +301,29 @@ def _write_new(path: Path, data: bytes):
 
 def _write_atomically(path: Path, data: bytes):
     """Write ``data`` to ``path`` through a temporary file renamed into place: readers
-    see the old entry or the new one, never half of one."""
+    see the old entry or the new one, never half of one (a directory in the entry's
+    place is discarded first)."""
     temporary = _temporary(path)
     try:
         _write_new(temporary, data)
-        os.replace(temporary, path)
+        try:
+            os.replace(temporary, path)
+        except (IsADirectoryError, FileExistsError, OSError) as error:
+            if error.errno not in (errno.EISDIR, errno.ENOTEMPTY, errno.EEXIST):
+                raise
+            _discard(path)
+            os.replace(temporary, path)
     finally:
         temporary.unlink(missing_ok=True)
+
+
+def _discard(path: Path):
+    """Remove whatever stands in an entry's or the key's place inside the private
+    directory (a file, link, FIFO or folder), so it is rebuilt."""
+    try:
+        if stat.S_ISDIR(os.lstat(path).st_mode):
+            shutil.rmtree(path, ignore_errors=True)
+        else:
+            path.unlink()
+    except OSError:
+        pass

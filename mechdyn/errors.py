@@ -8,7 +8,7 @@ in one place. Warnings derive from :class:`MechdynWarning`.
 import difflib
 
 __all__ = ["MechdynError", "MechdynWarning", "DeclarationError", "DerivationError", "SceneError",
-           "ParameterError", "SimulationError", "did_you_mean"]
+           "ParameterError", "SimulationError", "OutputError", "did_you_mean"]
 
 
 def did_you_mean(name, choices) -> str:
@@ -54,3 +54,8 @@ class SimulationError(MechdynError, RuntimeError):
     def __init__(self, message, partial=None):
         super().__init__(message)
         self.partial = partial
+
+
+class OutputError(MechdynError, OSError):
+    """A file could not be written (disk full, no permission); the message names it and
+    the old file, if any, is left as it was."""

@@ -198,8 +198,21 @@ def finish(fig, path):
     return it open when there is no path (Jupyter)."""
     fig.tight_layout()
     if path is not None:
-        fig.savefig(path, dpi=110)
-        pyplot().close(fig)
+        from pathlib import Path
+
+        from mechdyn.atomic import replacing
+        kind = Path(path).suffix.lower().lstrip(".")
+        kinds = fig.canvas.get_supported_filetypes()
+        if kind not in kinds:
+            pyplot().close(fig)
+            raise MechdynError(f"{path}: cannot write a figure with "
+                               f"{f'the suffix .{kind}' if kind else 'no suffix'}; use one "
+                               f"of {', '.join('.' + k for k in sorted(kinds))}")
+        try:
+            with replacing(path, "wb") as handle:
+                fig.savefig(handle, format=kind, dpi=110)
+        finally:
+            pyplot().close(fig)
     return fig
 
 

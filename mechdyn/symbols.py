@@ -18,6 +18,8 @@ import sympy as sp
 from sympy.core.function import AppliedUndef
 from sympy.printing.conventions import split_super_sub
 
+from mechdyn.errors import DeclarationError
+
 __all__ = ["t", "coordinate", "coordinates", "speed", "acceleration", "plain",
            "is_coordinate", "dotted_symbol", "difference", "same"]
 
@@ -31,7 +33,11 @@ def coordinate(name: str) -> sp.Expr:
     phi_2(t)
     """
     if not isinstance(name, str) or not name.isidentifier():
-        raise ValueError(f"coordinate name must be an identifier, got {name!r}")
+        raise DeclarationError(f"coordinate name must be an identifier (letters, digits, "
+                               f"underscores; not starting with a digit), got {name!r}")
+    if name == "t":
+        raise DeclarationError("coordinate name 't' is the time md.t; name the coordinate "
+                               "otherwise (x, s, phi, ...)")
     return sp.Function(name)(t)
 
 

@@ -256,7 +256,8 @@ class CycleResult:
                 values, unit = shown.values(name, si.get(name, ""), values)
                 converted[f"{name} [{unit}]" if unit else name] = values
             data = converted
-        with open(path, "w", newline="") as handle:
+        from mechdyn.atomic import replacing
+        with replacing(path, "w", newline="") as handle:
             writer = csv.writer(handle)
             writer.writerow(list(data))
             for row in zip(*data.values()):

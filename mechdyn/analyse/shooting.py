@@ -230,6 +230,7 @@ def _problem(mechanism, scene, params, period, rtol, atol) -> _Problem:
     compiled = compile_scene(mechanism, scene)
     p = compiled.parameter_vector(values)
     guess = _guess(compiled, mechanism, scene, params)
+    _check_budget(compiled, p, guess, scene, T)
     method = scene.method
     if method == "auto":
         method, _ = choose_method(compiled, p, guess, scene.t_start, scene.t_start + T,
@@ -241,6 +242,33 @@ def _problem(mechanism, scene, params, period, rtol, atol) -> _Problem:
     atol = rtol * 1e-2 if atol is None else atol
     return _Problem(mechanism, scene, dict(params), compiled, p, scene.t_start, T,
                     _is_linear(eqs), guess, method, rtol, atol)
+
+
+def _check_budget(compiled, p, y, scene, T):
+    """Refuse up front a period far longer than the motion's fastest time scale allows
+    within the scene's step budget (``--period 1e300`` would integrate for minutes and
+    then fail): the scale is the shortest forcing period and the fastest oscillation
+    of the linearised motion at the start (the largest imaginary part of the Jacobian's
+    eigenvalues; stiff decay is left to implicit methods), each step covering at most
+    one radian of it."""
+    budget = scene.max_steps
+    if budget is None:
+        return
+    periods = [0.0] * compiled.meta["periods"]
+    compiled.raw["periods"](scene.t_start, [0.0] * len(y), p, periods)
+    try:
+        rate = float(np.max(np.abs(np.linalg.eigvals(compiled.jac(scene.t_start, y, p))
+                                   .imag), initial=0.0))
+    except (ArithmeticError, ValueError, np.linalg.LinAlgError):
+        rate = 0.0
+    rates = [rate] + [2 * math.pi / period for period in periods if period > 0]
+    steps = T * max(rates)
+    if steps > budget:
+        raise PeriodicError(
+            f"period = {T:.6g} s is about {steps:.3g} radians of the motion's fastest "
+            f"time scale ({1 / max(rates):.3g} s): more than the scene's step budget "
+            f"max_steps = {budget:,} allows; give the period of one cycle (or a larger "
+            "max_steps)")
 
 
 def _integrate(problem, fun, z0, jac):

@@ -29,11 +29,11 @@ from __future__ import annotations
 
 import csv
 import json
-import os
 from pathlib import Path
 
 import numpy as np
 
+from mechdyn.atomic import replacing, write_text
 from mechdyn.errors import MechdynError
 
 MAX_POINTS = 1_000_000       # default bound on a sweep's grid size (max_points= raises it)
@@ -108,10 +108,10 @@ class SweepFile:
             self._writer = csv.writer(self._handle)
             return
         _write_json(meta, record)                   # the record first, then the rows
-        self._handle = open(self.path, "w", newline="")
+        with replacing(self.path, "w", newline="") as handle:     # the header, whole
+            csv.writer(handle).writerow(self.columns)
+        self._handle = open(self.path, "a", newline="")
         self._writer = csv.writer(self._handle)
-        self._writer.writerow(self.columns)
-        self._handle.flush()
 
     def _check_header(self):
         with open(self.path, newline="") as handle:
@@ -126,7 +126,7 @@ class SweepFile:
         text = self.path.read_text()
         if not text.endswith("\n"):              # a row cut off by a crash
             text = text[:text.rfind("\n") + 1]
-            self.path.write_text(text)
+            write_text(self.path, text)
         for values in list(csv.reader(text.splitlines()))[1:]:
             if len(values) == len(self.columns):
                 self.add(dict(zip(self.columns, values)), write=False)
@@ -203,9 +203,7 @@ def _said(value) -> str:
 
 
 def _write_json(path: Path, value: dict):
-    temporary = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    temporary.write_text(json.dumps(value, indent=1) + "\n")
-    os.replace(temporary, path)
+    write_text(path, json.dumps(value, indent=1) + "\n")
 
 
 def _text(value):

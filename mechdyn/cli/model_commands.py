@@ -14,7 +14,7 @@ from mechdyn.cli.scene_commands import _progress
 def _models(args):
     from pathlib import Path
 
-    from mechdyn.declare.model_file import bundled_folder, load_model
+    from mechdyn.declare.model_file import bundled_folder  # loaded before the forks
     folder = Path(args.folder) if args.folder else bundled_folder()
     if not folder.is_dir():
         raise MechdynError(f"no folder {folder} in {Path.cwd()}; give the folder of "
@@ -25,26 +25,76 @@ def _models(args):
         raise MechdynError(f"{folder} holds no model files (*.py)")
     broken = 0
     for path in files:
-        try:
-            model = load_model(path)
-        except MechdynError as error:
-            broken += 1
-            reason = " ".join(str(error).split())
-            if reason.startswith(str(path)):
-                reason = reason[len(str(path)):].lstrip(":, ")
-            print(f"{path}  cannot be loaded: {reason}")
-            continue
-        summary = " ".join(model.doc.split("\n\n")[0].split()) or model.mechanism.name
-        shown = path if args.folder else path.stem          # bundled: by name
-        print(f"{shown}  {summary}\n    scenes: {', '.join(model.scenes) or 'none'}")
+        shown = path if args.folder else Path(path.stem)     # bundled: by name
+        ok, text = _in_child(_described, path, shown)
+        broken += not ok
+        print(text)
     return EXIT_USAGE if broken else EXIT_OK
+
+
+def _described(path, shown) -> tuple:
+    """``(loaded, the listing's line)`` of one model file (run to find its scenes),
+    named ``shown`` when it loads."""
+    from mechdyn.declare.model_file import load_model
+    try:
+        model = load_model(path)
+    except MechdynError as error:
+        reason = " ".join(str(error).split())
+        if reason.startswith(str(path)):
+            reason = reason[len(str(path)):].lstrip(":, ")
+        return False, f"{path}  cannot be loaded: {reason}"
+    summary = " ".join(model.doc.split("\n\n")[0].split()) or model.mechanism.name
+    return True, f"{shown}  {summary}\n    scenes: {', '.join(model.scenes) or 'none'}"
+
+
+def _in_child(function, path, *more) -> tuple:
+    """``function(path, *more)`` run in a forked child process, so a model file that ends the
+    process (``os._exit``), crashes the interpreter or changes its state cannot take
+    the listing with it; where there is no fork, in this process."""
+    import json
+    import os
+    if not hasattr(os, "fork"):
+        return function(path, *more)
+    sys.stdout.flush()
+    sys.stderr.flush()
+    read, write = os.pipe()
+    pid = os.fork()
+    if pid == 0:                                   # the child: answer, then leave
+        os.close(read)
+        try:
+            answer = json.dumps(function(path, *more)).encode()
+            with os.fdopen(write, "wb") as pipe:
+                pipe.write(answer)
+            sys.stdout.flush()
+            sys.stderr.flush()
+        finally:
+            os._exit(0)
+    os.close(write)
+    try:
+        with os.fdopen(read, "rb") as pipe:
+            answer = pipe.read()
+        _, status = os.waitpid(pid, 0)
+        pid = None
+    finally:
+        if pid is not None:                        # interrupted: the child goes too
+            os.kill(pid, 9)
+            os.waitpid(pid, 0)
+    if answer:
+        return tuple(json.loads(answer))
+    how = (f"exit status {os.WEXITSTATUS(status)}" if os.WIFEXITED(status) else
+           f"signal {os.WTERMSIG(status)}")
+    return False, (f"{path}  cannot be loaded: the model file ended its process ({how}) "
+                   "before defining its mechanism")
 
 
 def _add_models_command(commands):
     models = commands.add_parser(
         "models", help="list model files with their scenes and descriptions",
         description="List the model files of a folder: the first line of each file's "
-        "docstring (its first paragraph) and its scenes.",
+        "docstring (its first paragraph) and its scenes. Each file is run, as "
+        "`mechdyn simulate` would run it, to find its scenes: in a child process of its "
+        "own, so one that fails or ends the process is listed as broken and the others "
+        "are still listed. Only list folders whose files you would run.",
         epilog="examples:\n  mechdyn models            (the bundled models, by name)\n"
         "  mechdyn models ~/my_machines", formatter_class=argparse.RawDescriptionHelpFormatter)
     models.add_argument("folder", nargs="?", metavar="DIR",

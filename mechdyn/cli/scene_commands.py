@@ -86,16 +86,19 @@ def _run_scene_or_cycle(args, progress):
     result = warm.recall(name, progress)       # no model file, no sympy
     if result is not None:
         return result
-    before = set(sys.modules)
+    from mechdyn.cli.reads import watching
     from mechdyn.declare.model_file import load_model
     from mechdyn.parse import assignment
-    model = load_model(args.model)
-    if "+" in args.scene and args.scene not in model.scenes:
+    with watching() as reads:                # what the model file's code reads
+        model = load_model(args.model)
+        cycle = "+" in args.scene and args.scene not in model.scenes
+        if not cycle:
+            scene = model.scene(args.scene)
+            params = _params(model, scene, args.param)
+    if cycle:
         from mechdyn.analyse.cycle import duty_cycle
         overrides = dict(assignment(text) for text in args.param or ())
         return duty_cycle(model, args.scene, overrides, progress=progress)
-    scene = model.scene(args.scene)
-    params = _params(model, scene, args.param)
     if progress is not None:
         progress.t_start = scene.t_start
         progress.until = " or ".join(map(repr, scene.until))
@@ -104,7 +107,7 @@ def _run_scene_or_cycle(args, progress):
         from mechdyn.simulate.simulation import atol_vector
         warm.remember(name, model, scene, result,
                       atol_vector(result.compiled, model.mechanism, scene),
-                      warm.local_modules(before, Path(args.model).parent))
+                      reads.record())
     return result
 
 

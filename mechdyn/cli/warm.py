@@ -2,12 +2,17 @@
 sympy.
 
 After a run, what it needed is stored in the trusted cache (:mod:`mechdyn.cache`) under a
-key made of the model file's bytes, the bytes of the local modules it imported, mechdyn's
-own sources, the scene's name and the ``--param`` texts: the compiled scene's key, the
-parameter values, the initial state, the tolerances and budget, the stop conditions and
-outputs, the mechanism's name and units. The same command again finds the entry and
-integrates at once, with the compiled scene from the cache, without running the model
-file (whose declarations import sympy). Any change to those bytes changes the key; an
+key made of the model file's bytes, mechdyn's own sources, the scene's name and the
+``--param`` texts: the compiled scene's key, the parameter values, the initial state,
+the tolerances and budget, the stop conditions and outputs, the mechanism's name and
+units, and everything the model file read while it ran (:mod:`mechdyn.cli.reads`: the
+files it opened and the modules it imported, from anywhere, with their hashes, the
+folders it listed, the environment variables it read, the working directory and the
+import path). The same command again finds the entry, checks that all of that is
+unchanged, and integrates at once with the compiled scene from the cache, without
+running the model file (whose declarations import sympy). The rule: a warm start gives
+the answer a cold run would give, or it does not happen. A model file that read what
+cannot be checked (ran a program, opened a socket or a device) is never skipped; an
 entry whose compiled scene is gone is simply not used.
 
 >>> scene = FrozenScene.from_record({"name": "braking", "t_start": 0.0,
@@ -20,7 +25,6 @@ entry whose compiled scene is gone is simply not used.
 from __future__ import annotations
 
 import hashlib
-import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -84,10 +88,13 @@ def entry_name(model_path, scene_name, assignments) -> str | None:
     return f"warm-{digest.hexdigest()[:32]}.json"
 
 
-def remember(name, model, scene, result, atol, imported=()):
+def remember(name, model, scene, result, atol, reads):
     """Store what the run of ``scene`` of ``model`` that gave ``result`` needed, under the
-    entry ``name`` (``imported``: the local files the model file imported, kept by their
-    hashes)."""
+    entry ``name`` (``reads``: what loading the model file read,
+    :meth:`mechdyn.cli.reads.Reads.record`; None: it cannot be verified, nothing is
+    stored)."""
+    if reads is None:
+        return
     compiled = result.compiled
     record = {
         "scene_key": compiled.key, "base": [float(v) for v in result._base],
@@ -100,20 +107,21 @@ def remember(name, model, scene, result, atol, imported=()):
                   "until": [[repr(c), int(c.direction)] for c in scene.until],
                   "outputs": list(compiled.output_labels)},
         "mechanism": {"name": model.mechanism.name, "units": dict(model.mechanism.units)},
-        "imported": {str(path): _file_digest(path) for path in imported},
+        "reads": reads,
     }
     cache.store(name, record)
 
 
 def recall(name, progress=None):
     """The result of the stored run ``name`` integrated again, or None when there is no
-    usable entry (none, not authentic, or its compiled scene or imports changed)."""
+    usable entry (none, not authentic, its compiled scene gone, or anything the model
+    file read changed)."""
     record = cache.load(name) if name else None
     if record is None:
         return None
     try:
-        if any(_file_digest(Path(path)) != digest
-               for path, digest in record["imported"].items()):
+        from mechdyn.cli.reads import verify
+        if not verify(record["reads"]):
             return None
         stored = cache.load(f"scene-{record['scene_key']}.json")
         if stored is None:
@@ -138,28 +146,9 @@ def recall(name, progress=None):
     return result
 
 
-def local_modules(before, folder) -> list:
-    """The files of modules imported since ``before`` (a set of module names) that lie
-    in ``folder`` (the model file's): a model's own helpers, which the key must cover."""
-    folder = Path(folder).resolve()
-    files = []
-    for name, module in list(sys.modules.items()):
-        path = getattr(module, "__file__", None)
-        if name not in before and path and folder in Path(path).resolve().parents:
-            files.append(Path(path).resolve())
-    return files
-
-
 def _own_sources() -> bytes:
     """A digest of mechdyn's own source files (a new version or an edit voids entries)."""
     digest = hashlib.sha256()
     for path in sorted(Path(__file__).parents[1].rglob("*.py")):
         digest.update(path.read_bytes())
     return digest.digest()
-
-
-def _file_digest(path) -> str | None:
-    try:
-        return hashlib.sha256(Path(path).read_bytes()).hexdigest()
-    except OSError:
-        return None

@@ -44,6 +44,11 @@ class _Printer(PythonCodePrinter):
     def _print_DiracDelta(self, expr):
         return "0.0"
 
+    def table_call(self, expr):
+        """A long table (:mod:`mechdyn.declare.lookup`): its shared search."""
+        from mechdyn.compile.table_code import call_text
+        return call_text(expr, self._print(expr.args[0]))
+
 
 _PRINTER = _Printer({"fully_qualified_modules": False, "standard": "python3"})
 
@@ -86,8 +91,10 @@ def function_source(name, states, parameters, expressions, body, doc="", lines=(
 def list_function(name, states, parameters, expressions):
     """A compiled ``f(t, y, p) -> list`` of the expressions' values, for analysis code
     that calls generated functions from Python (``y`` a list or an array)."""
-    source = function_source(name, states, parameters, expressions,
-                             [f"out[{i}] = {{{i}}}" for i in range(len(expressions))])
+    from mechdyn.compile.table_code import table_constants
+    source = table_constants(expressions) + function_source(
+        name, states, parameters, expressions,
+        [f"out[{i}] = {{{i}}}" for i in range(len(expressions))])
     raw = compile_source(source)[name]
     size = len(expressions)
 

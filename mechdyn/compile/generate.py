@@ -36,6 +36,7 @@ from __future__ import annotations
 
 import sympy as sp
 from mechdyn.compile.codegen import function_source, safe_symbols
+from mechdyn.compile.table_code import table_constants
 from mechdyn.declare.elements import Constraint
 from mechdyn.compile.output_code import friction_signed, outputs as scene_outputs, slip_signed
 from mechdyn.symbols import t
@@ -117,7 +118,10 @@ def generate(eqs, scene, elements) -> tuple:
         ("contact_gap", (len(contacts),), [r(e) for e in locked["gap"]]),
         ("contact_restitution", (len(contacts),), [r(e) for e in locked["restitution"]]),
         ("gear_law", (len(gears), 4), [r(e) for e in locked["law"]])])
-    domains = domain_conditions(eqs, elements, state)
+    domains = domain_conditions(eqs, elements, state) + [
+        (f"output {label!r} = {_written(expr)}", g)
+        for (label, expr, _), plain in zip(outputs, output_exprs)
+        for g in _domain_arguments(plain) if g.free_symbols & state and not g.is_nonnegative]
     event_exprs = [r(e) for _, e in stops] + [r(fr.rate) for fr in frictions] \
         + [r(m) for m in magnitudes] + [r(e) for e in locked["gap"]] \
         + [r(e) for e in switches.functions] + [r(e) for _, e in domains]
@@ -186,7 +190,7 @@ def generate(eqs, scene, elements) -> tuple:
         meta["multiplier_outputs"] = {label: meta["constraints"].index(label)
                                       for label, _, _ in outputs
                                       if label in meta["constraints"]}
-    return meta, "\n".join(sources)
+    return meta, table_constants(everything) + "\n".join(sources)
 
 
 # ------------------------------------------------------------------ switching points

@@ -18,13 +18,41 @@ import numpy as np
 
 from mechdyn.errors import SimulationError
 
-__all__ = ["compile_source", "CompiledScene", "SingularMassError"]
+__all__ = ["compile_source", "CompiledScene", "SingularMassError", "TABLE_HELPERS"]
+
+# The binary search of long tables (:mod:`mechdyn.compile.table_code`): plain Python
+# that numba compiles as it is.
+TABLE_HELPERS = '''
+def table_segment(x, xs):
+    lo = 0
+    hi = len(xs) - 2
+    while lo < hi:
+        mid = (lo + hi + 1) // 2
+        if x >= xs[mid]:
+            lo = mid
+        else:
+            hi = mid - 1
+    return lo
+
+
+def table_slope(x, xs, ys):
+    i = table_segment(x, xs)
+    return (ys[i + 1] - ys[i]) / (xs[i + 1] - xs[i])
+
+
+def table_value(x, xs, ys):
+    i = table_segment(x, xs)
+    return ys[i] + (ys[i + 1] - ys[i]) / (xs[i + 1] - xs[i]) * (x - xs[i])
+'''
 
 
 def compile_source(source: str, extra=None) -> dict:
     """Execute generated source in a namespace holding the math module's names
     (``pow`` is ``math.pow``: a domain error where a power has no real value)."""
     namespace = {name: getattr(math, name) for name in dir(math) if not name.startswith("_")}
+    if "table_points(" in source:
+        namespace["table_points"] = tuple
+        exec(TABLE_HELPERS, namespace)
     namespace.update(extra or {})
     exec(compile(source, "<mechdyn generated>", "exec"), namespace)
     return namespace

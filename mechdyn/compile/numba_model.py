@@ -30,6 +30,8 @@ import tempfile
 from pathlib import Path
 
 from mechdyn import cache
+from mechdyn.atomic import write_text
+from mechdyn.compile.generated import TABLE_HELPERS
 
 __all__ = ["available", "numba_functions"]
 
@@ -42,6 +44,10 @@ from numba import njit
 _RHS = "void(float64, float64[::1], float64[::1], float64[::1])"
 _JAC = "void(float64, float64[::1], float64[::1], float64[:, ::1])"
 '''
+
+
+_TABLES = ("from numpy import array as table_points\n" + TABLE_HELPERS.replace(
+    "\ndef ", "\n@njit(cache=True)\ndef ") + "\n")
 
 
 def available() -> bool:
@@ -76,8 +82,7 @@ def _split(source) -> dict:
         if line.startswith("def "):
             name = line[4:line.index("(")]
             pieces[name] = ""
-        if name is not None:
-            pieces[name] += line
+        pieces[name or "constants"] = pieces.get(name or "constants", "") + line
     return pieces
 
 
@@ -94,6 +99,8 @@ def _module_text(sources) -> str:
         decorations.append('jac = njit(_JAC, cache=True, error_model="numpy")(jac)')
     else:
         decorations.append("jac = None")
+    if "constants" in sources:              # long tables: their points and the search
+        body = [_TABLES + sources["constants"]] + body
     return _HEADER + "\n\n" + "\n\n".join(body) + "\n\n" + "\n".join(decorations) + "\n"
 
 
@@ -123,7 +130,7 @@ def _import(folder, key, text):
     folder.mkdir(mode=0o700, parents=True, exist_ok=True)
     path = folder / f"mechdyn_model_{key}.py"
     if not path.exists():
-        path.write_text(text)
+        write_text(path, text)
     name = f"mechdyn_model_{key}"
     spec = importlib.util.spec_from_file_location(name, path)
     module = importlib.util.module_from_spec(spec)

@@ -39,6 +39,9 @@ def as_expression(value, what: str) -> sp.Expr:
         raise DeclarationError(f"{what}: {value!r} is not a scalar expression")
     if expr.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
         raise DeclarationError(f"{what}: {value!r} is not finite")
+    if expr.has(sp.I) or any(a.is_real is False for a in expr.atoms(sp.Number)):
+        raise DeclarationError(f"{what}: {value!r} is complex; mechanisms are declared "
+                               "with real numbers and expressions")
     return expr
 
 

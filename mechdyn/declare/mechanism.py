@@ -20,6 +20,7 @@ import sympy as sp
 from sympy.core.function import AppliedUndef
 
 from mechdyn.declare.couplings import Couplings
+from mechdyn.declare.names import check_coordinates, check_parameters
 from mechdyn.declare.elements import (FRAME, Constraint, Damper, Element, Friction, Gravity, Joint, Link,
                        Load, Spring)
 from mechdyn.errors import DeclarationError
@@ -82,6 +83,7 @@ class Mechanism(Couplings):
         for n in names:
             if names.count(n) > 1:
                 raise DeclarationError(f"mechanism {name!r}: coordinate {n!r} declared twice")
+        check_coordinates(name, coordinates)
         self.name = name
         self.coordinates = tuple(coordinates)
         self.units = {}
@@ -138,8 +140,10 @@ class Mechanism(Couplings):
         if element.name == FRAME:
             raise DeclarationError(f"mechanism {self.name!r}: {FRAME!r} names the fixed "
                                    "frame in joints; give the element another name")
+        known = self._parameter_names()
         for attribute, expr in element.expressions().items():
             self._check_dependencies(element, attribute, expr)
+            check_parameters(_what(element, attribute), expr, known, self.coordinates)
         for index, point in enumerate(getattr(element, "points", ())):
             for axis, expr in zip("xy", point):
                 self._check_dependencies(element, f"point {index} {axis}", expr)
@@ -242,6 +246,14 @@ class Mechanism(Couplings):
         chosen = self.independent
         return tuple(q for q in self.coordinates if q not in chosen)
 
+    def _parameter_names(self) -> dict:
+        """name -> (parameter symbol, where it is declared) over the elements so far."""
+        known = {}
+        for element in self.elements.values():
+            for attribute, expr in element.expressions().items():
+                check_parameters(_what(element, attribute), expr, known, self.coordinates)
+        return known
+
     def _check_link_names(self, element):
         links = {n for n, e in self.elements.items() if isinstance(e, Link)}
         if isinstance(element, Joint):
@@ -309,6 +321,10 @@ def _rule(table, element, attribute, default=None):
         if (cls, attribute) in table:
             return table[(cls, attribute)] if isinstance(table, dict) else True
     return default
+
+
+def _what(element, attribute) -> str:
+    return f"{type(element).__name__.lower()} {element.name!r}: {attribute}"
 
 
 def _names(coordinates):

@@ -108,8 +108,10 @@ def animate(mechanism, result, params=None, path="animation.gif", sample=None, f
             yield picture.convert("RGB").convert("P", palette=Image.Palette.ADAPTIVE)
     sequence = frames()
     try:
-        next(sequence).save(path, save_all=True, append_images=sequence, loop=0,
-                            duration=1000.0 / fps, disposal=1)
+        from mechdyn.atomic import replacing
+        with replacing(path, "wb") as handle:
+            next(sequence).save(handle, format="GIF", save_all=True, append_images=sequence,
+                                loop=0, duration=1000.0 / fps, disposal=1)
     finally:
         plt.close(figure)
     return Film(Path(path), times, float(fps))

@@ -15,7 +15,6 @@ of :mod:`mechdyn.analyse.precision`.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from pathlib import Path
 
 import sympy as sp
 from sympy.core.function import AppliedUndef
@@ -58,7 +57,8 @@ class Report:
 
     def write(self, path):
         """Save the page (UTF-8) and return the path."""
-        Path(path).write_text(self.html, encoding="utf-8")
+        from mechdyn.atomic import write_text
+        write_text(path, self.html)
         return path
 
 

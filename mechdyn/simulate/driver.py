@@ -30,7 +30,7 @@ from mechdyn.simulate.loop_watch import LoopSingularError, LoopWatch
 from mechdyn.simulate.methods import (StiffnessMonitor, backend_plan, explicit_for, fallbacks,
                       motion_jacobian, segment_tolerances, stiff_for)
 from mechdyn.simulate.result import Result
-from mechdyn.simulate.run_checks import Budget, check_finite, check_mass, diagnosis, state_text
+from mechdyn.simulate.run_checks import Budget, check_finite, check_mass, check_scales, diagnosis, state_text
 from mechdyn.simulate.segments import compiled_runner, scipy_runner, watched_events
 from mechdyn.simulate.time_events import time_events
 from mechdyn.simulate.trajectory import Segment, Trajectory
@@ -85,6 +85,7 @@ class Driver:
                                      self.periods)
             terms = self._start_terms(t, y)
             self.mass_scale = check_mass(self.c, terms, t, y)
+            check_scales(self.c, terms, t, y, self.scene.name)
             muted, instant, count, h = set(), None, 0, None
             y, touching, resting = jump(self.modes, t, y, None, (), self.events)
             mode = self.modes.decide(t, y, self._flags(t, y, Mode(), muted),
@@ -277,7 +278,8 @@ class Driver:
                 continue
             if values[i] < 0:
                 self._no_real_value(t, y, i)
-            if start is not None and start[i] > 0 and values[i] <= (edge or _EDGE) * start[i]:
+            if start is not None and start[i] > 0 and values[i] <= (edge or _EDGE) * start[i] \
+                    and not label.startswith("output "):    # the equations do not use it
                 raise SimulationError(
                     f"integration stopped at t = {t:.6g} s: the motion reaches the edge of "
                     f"{label} at {state_text(self.c, y)}: the argument of its root, power, "

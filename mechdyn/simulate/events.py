@@ -124,7 +124,7 @@ class EventWatch:
             times[i] = locate(g, t_lo, t_hi, self.side[i], self.zero_is_before[i],
                               self.directions[i])
         first = min(times.values())
-        window = 8 * _EPS * max(1.0, abs(first))
+        window = 8 * _EPS * max(abs(t_lo), abs(t_hi))   # relative: any time scale
         fired = sorted(i for i, t in times.items() if t - first <= window)
         return first, state(first), [int(i) for i in fired]
 
@@ -139,12 +139,13 @@ def locate(g, t_lo, t_hi, side_before, zero_is_before, direction, iterations=200
         return np.sign(value) != side_before
 
     g_lo, g_hi = g(t_lo), g(t_hi)
+    scale = max(abs(t_lo), abs(t_hi))   # relative to the bracket: runs of 1e-28 s too
     if leaves(g_lo):            # left the side at the very start of the bracket
         return t_lo
     f_lo, f_hi, kept = g_lo, g_hi, 0     # f: the values the secant uses (Illinois-scaled)
     for iteration in range(iterations):
         width = t_hi - t_lo
-        if width <= 4 * _EPS * max(1.0, abs(t_hi)):
+        if width <= 4 * _EPS * scale:
             break
         secant = f_hi != f_lo and np.isfinite(f_lo - f_hi) and f_hi != 0
         if secant and iteration % 4 != 3:        # every fourth step bisects: a guarantee

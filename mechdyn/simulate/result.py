@@ -16,7 +16,7 @@ from functools import cached_property
 
 import numpy as np
 
-from mechdyn.errors import MechdynError
+from mechdyn.errors import MechdynError, SimulationError
 from mechdyn.simulate.events import Event
 from mechdyn.simulate.mode_outputs import run_time_outputs
 from mechdyn.simulate.trajectory import Trajectory
@@ -152,7 +152,8 @@ class Result:
 
     @cached_property
     def outputs(self) -> dict:
-        """Requested outputs at the step points, by label. A friction element's output is
+        """Requested outputs at the step points, by label (a partial result's are NaN
+        where they have no real value: past the edge of a root's domain). A friction element's output is
         the friction force acting (the holding force while stuck), a stop's its contact
         force, a lossy gear's its mesh moment (the moment its input passes into it)."""
         return self._outputs(self.t, self.y, self._owner)
@@ -172,7 +173,14 @@ class Result:
 
         def evaluate(t, y, owner):
             mode = self.trajectory.segments[owner].mode
-            values = list(self.compiled.outputs(t, y, self._modes.p(mode)))
+            try:
+                values = list(self.compiled.outputs(t, y, self._modes.p(mode)))
+            except (ArithmeticError, ValueError) as error:
+                if self.reason.startswith("failed"):    # a partial result, at its end
+                    return [float("nan")] * len(labels)
+                raise SimulationError(f"{self._outside(t, y, mode) or 'an output'} cannot be "
+                                      f"evaluated at t = {t:.6g} s ({type(error).__name__}: "
+                                      f"{error})", partial=self) from None
             if multipliers:
                 lam = self._modes.multipliers(t, y, mode)
                 for label, k in multipliers.items():
@@ -180,6 +188,14 @@ class Result:
             return run_time_outputs(self._modes, t, y, mode, items, values)
         table = self._each_point(evaluate, times, states, owners)
         return {label: table[i] for i, label in enumerate(labels)}
+
+    def _outside(self, t, y, mode) -> str:
+        """The outputs whose root, power, logarithm or arcsine has no real value at
+        ``(t, y)``."""
+        values = self.compiled.events(t, y, self._modes.p(mode))
+        return ", ".join(label for (kind, label), value in zip(self.compiled.event_kinds,
+                                                                values)
+                         if kind == "domain" and label.startswith("output ") and value < 0)
 
     def energy(self):
         """Kinetic and potential energy at the step points: ``(T, V)`` arrays."""
@@ -230,7 +246,8 @@ class Result:
                 values, unit = shown.values(name, si.get(name, ""), values)
                 converted[f"{name} [{unit}]" if unit else name] = values
             data = converted
-        with open(path, "w", newline="") as handle:
+        from mechdyn.atomic import replacing
+        with replacing(path, "w", newline="") as handle:
             writer = csv.writer(handle)
             writer.writerow(list(data))
             for row in zip(*data.values()):
@@ -265,7 +282,9 @@ class Result:
                 return self.trajectory.at(at)[which]
             return self.outputs_at(at)[which]
         sampled = np.abs(values(times))
-        best = int(np.argmax(sampled))
+        finite = np.isfinite(sampled)        # a partial result's outputs may end in NaN
+        best = int(np.argmax(np.where(finite, sampled, -1.0))) if finite.any() else -1
+        best %= len(times)
         low, high = times[max(best - 1, 0)], times[min(best + 1, len(times) - 1)]
         if high > low:
             from scipy.optimize import minimize_scalar
@@ -358,7 +377,8 @@ class Result:
 
 
 def _value_row(label, values, unit) -> list:
-    peak = values[abs(values).argmax()] if len(values) else float("nan")
+    finite = values[np.isfinite(values)]          # a partial result's end may have none
+    peak = finite[abs(finite).argmax()] if len(finite) else float("nan")
     return [label, float(values[0]), float(values[-1]), float(peak), unit]
 
 

@@ -11,7 +11,14 @@ import numpy as np
 from mechdyn.compile.generated import SingularMassError
 from mechdyn.errors import SimulationError
 
-__all__ = ["Budget", "check_mass", "check_finite", "diagnosis", "state_text"]
+__all__ = ["Budget", "check_mass", "check_scales", "check_finite", "diagnosis",
+           "state_text"]
+
+# Magnitudes whose squares and products stay far from overflow and underflow (the
+# solvers' error norms and Jacobians square them); beyond, a named error, not garbage.
+COMFORT = 1e150
+_SCALED = {"mass": "the mass matrix (reduced inertia)", "forcing": "the generalized forces",
+           "friction_magnitude": "a friction magnitude", "contact_gap": "a stop's gap"}
 
 
 class Budget:
@@ -48,6 +55,26 @@ def check_mass(compiled, terms, t, y) -> float:
         worst = int(np.argmin(np.diag(mass))) if compiled.dof else 0
         raise SingularMassError(compiled.coordinates[worst], t, y) from None
     return scale
+
+
+def check_scales(compiled, terms, t, y, name):
+    """Refuse a start whose inertias, forces or state lie far outside floating-point
+    comfort (beyond ``1e150``, or an inertia below ``1e-150``: accelerations of its
+    inverse size): such a run fails in the solvers' linear algebra or ends with a wrong
+    answer; other units cure it. (Small forces and states are harmless.)"""
+    parts = [(_SCALED[key], np.ravel(terms[key])) for key in _SCALED if key in terms]
+    parts.append((f"the initial state ({state_text(compiled, y)})", np.ravel(y)))
+    parts.append(("the start time t", np.array([t])))
+    for what, values in parts:
+        sizes = np.abs(values[np.isfinite(values) & (values != 0)])
+        tiny = what == _SCALED["mass"] and len(sizes) and sizes.max() < 1 / COMFORT
+        if len(sizes) and (sizes.max() > COMFORT or tiny):
+            worst = sizes.max()
+            raise SimulationError(
+                f"scene {name!r}: a value of magnitude {worst:.3g} in {what} at the start "
+                f"lies far outside the range floating-point arithmetic handles safely "
+                f"({1 / COMFORT:.0e} to {COMFORT:.0e}); state the model in other units "
+                "(e.g. mm, g, ms) so its numbers come nearer to 1")
 
 
 def check_finite(compiled, t, y):

@@ -115,7 +115,11 @@ class ScipySegment:
             t_old, y_old = solver.t, solver.y
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
-                message = solver.step()
+                try:
+                    message = solver.step()
+                except (ArithmeticError, ValueError, np.linalg.LinAlgError) as error:
+                    return Outcome("failed", t_old, y_old, message="the solver's linear "
+                                   f"algebra overflowed ({error})")
             if solver.status == "failed":
                 return Outcome("failed", t_old, y_old, message=str(message or "step failed"))
             if not np.all(np.isfinite(solver.y)):       # a solver that accepted NaN

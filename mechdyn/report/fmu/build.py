@@ -13,6 +13,7 @@ import tempfile
 import zipfile
 from pathlib import Path
 
+from mechdyn.atomic import replacing
 from mechdyn.errors import MechdynError
 
 __all__ = ["FmuError", "FmuCompilerError", "find_compiler", "platform_folder", "build_fmu"]
@@ -75,19 +76,12 @@ def build_fmu(path, identifier: str, model_source: str, description: str,
         if done.returncode != 0 or not library.exists():
             raise FmuCompilerError(f"the C compiler ({' '.join(command)}) failed:\n"
                                    f"{(done.stderr or done.stdout).strip()[-2000:]}")
-        handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part",
-                                             dir=path.parent if str(path.parent) else ".")
-        os.close(handle)
-        try:
-            with zipfile.ZipFile(temporary, "w", zipfile.ZIP_DEFLATED) as archive:
-                archive.writestr("modelDescription.xml", description)
-                archive.write(library, f"binaries/{folder}/{library.name}")
-                for source in sorted(sources.iterdir()):
-                    archive.write(source, f"sources/{source.name}")
-                if documentation:
-                    archive.writestr("documentation/index.html", documentation)
-            os.replace(temporary, path)
-        except BaseException:
-            Path(temporary).unlink(missing_ok=True)
-            raise
+        with replacing(path, "wb") as handle, \
+                zipfile.ZipFile(handle, "w", zipfile.ZIP_DEFLATED) as archive:
+            archive.writestr("modelDescription.xml", description)
+            archive.write(library, f"binaries/{folder}/{library.name}")
+            for source in sorted(sources.iterdir()):
+                archive.write(source, f"sources/{source.name}")
+            if documentation:
+                archive.writestr("documentation/index.html", documentation)
     return path
