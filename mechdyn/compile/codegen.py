@@ -18,6 +18,9 @@ numba. The generated text is mechdyn's own (never user text); it is compiled wit
 """
 from __future__ import annotations
 
+import re
+import string
+
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
@@ -45,6 +48,8 @@ class _Printer(PythonCodePrinter):
         return "0.0"
 
 
+_FORMATTER = string.Formatter()
+_NAME = re.compile(r"[A-Za-z_]\w*")
 _PRINTER = _Printer({"fully_qualified_modules": False, "standard": "python3"})
 
 
@@ -68,16 +73,18 @@ def function_source(name, states, parameters, expressions, body, doc="", lines=(
     """
     temporaries, reduced = sp.cse(list(expressions), symbols=sp.numbered_symbols("_c"),
                                   order="none")
-    text = [f"def {name}(t, y, p, out):"]
+    computed = [f"    {symbol} = {printed(value)}" for symbol, value in temporaries]
+    computed += [f"    _e{i} = {printed(expr)}" for i, expr in enumerate(reduced)]
+    names = [f"_e{i}" for i in range(len(reduced))]
+    # vformat reads the names by index: no unpacking of every name for every line
+    computed += ["    " + _FORMATTER.vformat(line, names, {}) for line in (*lines, *body)]
+    used = set(_NAME.findall("\n".join(computed)))      # read only what is used: numba
+    text = [f"def {name}(t, y, p, out):"]               # compiles every statement
     if doc:
         text.append(f'    """{doc}"""')
-    text += [f"    {n} = y[{i}]" for i, n in enumerate(states)]
-    text += [f"    {n} = p[{i}]" for i, n in enumerate(parameters)]
-    text += [f"    {symbol} = {printed(value)}" for symbol, value in temporaries]
-    text += [f"    _e{i} = {printed(expr)}" for i, expr in enumerate(reduced)]
-    names = [f"_e{i}" for i in range(len(reduced))]
-    text += ["    " + line.format(*names) for line in lines]
-    text += ["    " + line.format(*names) for line in body]
+    text += [f"    {n} = y[{i}]" for i, n in enumerate(states) if n in used]
+    text += [f"    {n} = p[{i}]" for i, n in enumerate(parameters) if n in used]
+    text += computed
     if len(text) == 1 + bool(doc):
         text.append("    pass")
     return "\n".join(text) + "\n"
