@@ -39,7 +39,7 @@ from mechdyn.compile.codegen import function_source, safe_symbols
 from mechdyn.declare.elements import Constraint
 from mechdyn.compile.output_code import friction_signed, outputs as scene_outputs, slip_signed
 from mechdyn.symbols import t
-from mechdyn.compile.mass_solve import (_jac_source, _rhs_source)
+from mechdyn.compile.mass_solve import UNROLLED_LIMIT, _jac_source, _rhs_source
 
 __all__ = ["generate"]
 
@@ -92,7 +92,8 @@ def generate(eqs, scene, elements) -> tuple:
         + [f"side of {f}" for f in switches.functions]) + "]")
 
     def source(name, exprs, body, lines=()):
-        return function_source(name, states, parameters, exprs, body, doc, lines)
+        return function_source(name, states, parameters, exprs, body, doc, lines,
+                               large=n > UNROLLED_LIMIT)
 
     mass, force = r(mass_matrix), r(forcing)
     constraints = eqs.constraints
