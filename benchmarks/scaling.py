@@ -12,7 +12,8 @@ once per installation, is loaded before timing). Columns (wall time):
 * derive: ``mech.equations(scene)``; generate: ``mech.compile(scene)`` (code
   generation and the Python form of the functions);
 * first run: the first ``mech.simulate(scene, backend="compiled")`` after them (numba
-  compiles the generated functions, then the run);
+  compiles the generated functions, then the run); "CPU" is the process time of the
+  three (on a shared machine wall time also counts other processes' turns);
 * warm run: the same run again, whole, and its cost per right-hand side evaluation;
 * kernel / RHS: the compiled kernel alone (``mechdyn.kernels.Integration``, DOP853, the
   same tolerances) stepping the generated functions, per RHS evaluation;
@@ -115,6 +116,7 @@ def measure_mechdyn(n):
     from mechdyn.compile.numba_model import numba_functions
     mech, scene, params, phi = chain(n)
     row = {"n": n}
+    cpu = time.process_time()
     start = time.perf_counter()
     mech.equations(scene)
     row["derive"] = time.perf_counter() - start
@@ -124,6 +126,7 @@ def measure_mechdyn(n):
     start = time.perf_counter()
     mech.simulate(scene, params, backend="compiled")
     row["first"] = time.perf_counter() - start
+    row["cpu"] = time.process_time() - cpu
     start = time.perf_counter()
     result = mech.simulate(scene, params, backend="compiled")
     row["warm"] = time.perf_counter() - start
@@ -223,14 +226,14 @@ def main():
         return
     print(f"chain of N discs, 0-{T_END:g} s, rtol {RTOL:g}; wall times, fresh process and "
           "empty cache per size\n")
-    print("| N | derive s | generate s | first run s | d+g+first s | warm run s | warm µs/RHS "
-          "| kernel µs/RHS | floor µs/RHS | x floor | RHS | end vs floor |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    print("| N | derive s | generate s | first run s | d+g+first s | (CPU s) | warm run s | "
+          "warm µs/RHS | kernel µs/RHS | floor µs/RHS | x floor | RHS | end vs floor |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for n in args.sizes:
         r = in_fresh_process("mechdyn", n)
         total = r["derive"] + r["generate"] + r["first"]
         print(f"| {n} | {r['derive']:.2f} | {r['generate']:.2f} | {r['first']:.2f} | "
-              f"{total:.2f} | {r['warm']:.3f} | {r['warm_per_rhs'] * 1e6:.1f} | "
+              f"{total:.2f} | {r['cpu']:.2f} | {r['warm']:.3f} | {r['warm_per_rhs'] * 1e6:.1f} | "
               f"{r['kernel_per_rhs'] * 1e6:.2f} | {r['floor_per_rhs'] * 1e6:.2f} | "
               f"{r['kernel_per_rhs'] / r['floor_per_rhs']:.1f} | {r['nfev']} | "
               f"{r['difference']:.1e} |", flush=True)
