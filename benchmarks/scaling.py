@@ -18,7 +18,9 @@ once per installation, is loaded before timing). Columns (wall time):
 * kernel / RHS: the compiled kernel alone (``mechdyn.kernels.Integration``, DOP853, the
   same tolerances) stepping the generated functions, per RHS evaluation;
 * floor / RHS: the same kernel stepping the chain's accelerations written by hand in
-  numba (a loop over the shafts), per RHS evaluation; "x floor" is kernel / floor.
+  numba (a loop over the shafts), per RHS evaluation; "x floor" is kernel / floor;
+* RHS alone: one call of the generated ``rhs`` (and of the hand-written one) from a
+  compiled loop, without the integrator;
 * the end state's largest difference between mechdyn's run and the floor's run.
 
 Peers (``--peer-sizes``): sympy's LagrangesMethod (derivation, ``mass_matrix_full`` and
@@ -93,7 +95,29 @@ def floor_functions():
     return model_functions(chain_rhs)
 
 
-def kernel_run(functions, p, n, repeats=3):
+def rhs_alone(functions, p, n, calls=20000, repeats=5):
+    """Best time of one call of the model's rhs, called from compiled code."""
+    import numpy as np
+    from numba import njit
+    from mechdyn.kernels.functions import as_rhs
+
+    @njit
+    def call_many(addresses, p, y, out, calls):
+        rhs = as_rhs(addresses[0], addresses[1])
+        for _ in range(calls):
+            rhs(0.0, y, p, out)
+    y, out = np.linspace(0.0, 1.0, 2 * n), np.zeros(2 * n)
+    p = np.asarray(p, dtype=float)
+    best = None
+    for _ in range(repeats):
+        start = time.perf_counter()
+        call_many(functions.addresses, p, y, out, calls)
+        elapsed = (time.perf_counter() - start) / calls
+        best = elapsed if best is None else min(best, elapsed)
+    return best
+
+
+def kernel_run(functions, p, n, repeats=10):
     """Best wall time of a kernel run over 0-1 s, its RHS count and end state."""
     import numpy as np
     from mechdyn.kernels import CHUNK_FULL, DOP853, Integration
@@ -138,6 +162,8 @@ def measure_mechdyn(n):
     floor_p = values["J"] + values["k"] + values["c"] + [values["M"], values["b"]]
     elapsed, floor_nfev, floor_end = kernel_run(floor_functions(), floor_p, n)
     row["floor_per_rhs"] = elapsed / floor_nfev
+    row["rhs_alone"] = rhs_alone(numba_functions(compiled), p, n)
+    row["floor_alone"] = rhs_alone(floor_functions(), floor_p, n)
     row["nfev"] = nfev
     row["difference"] = float(np.max(np.abs(end - floor_end)))
     return row
@@ -227,15 +253,17 @@ def main():
     print(f"chain of N discs, 0-{T_END:g} s, rtol {RTOL:g}; wall times, fresh process and "
           "empty cache per size\n")
     print("| N | derive s | generate s | first run s | d+g+first s | (CPU s) | warm run s | "
-          "warm µs/RHS | kernel µs/RHS | floor µs/RHS | x floor | RHS | end vs floor |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+          "warm µs/RHS | kernel µs/RHS | floor µs/RHS | x floor | RHS alone µs (floor) | RHS "
+          "| end vs floor |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for n in args.sizes:
         r = in_fresh_process("mechdyn", n)
         total = r["derive"] + r["generate"] + r["first"]
         print(f"| {n} | {r['derive']:.2f} | {r['generate']:.2f} | {r['first']:.2f} | "
               f"{total:.2f} | {r['cpu']:.2f} | {r['warm']:.3f} | {r['warm_per_rhs'] * 1e6:.1f} | "
               f"{r['kernel_per_rhs'] * 1e6:.2f} | {r['floor_per_rhs'] * 1e6:.2f} | "
-              f"{r['kernel_per_rhs'] / r['floor_per_rhs']:.1f} | {r['nfev']} | "
+              f"{r['kernel_per_rhs'] / r['floor_per_rhs']:.1f} | "
+              f"{r['rhs_alone'] * 1e6:.3f} ({r['floor_alone'] * 1e6:.3f}) | {r['nfev']} | "
               f"{r['difference']:.1e} |", flush=True)
     if args.peer_sizes:
         print("\npeers (same chain; first run = lambdify excluded, integration only)\n")
