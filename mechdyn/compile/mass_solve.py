@@ -132,15 +132,18 @@ def half_bandwidth(mass) -> int:
 
 
 def _banded_lines(mass, forcing, bw):
-    """Expressions and lines leaving ``_m`` (the factor of ``M``'s band) and ``_a`` (the
-    accelerations ``M^-1 f``); the expressions are the non-zero entries, then ``f``."""
+    """Expressions and lines leaving ``_m`` (the factor of ``M``'s band) and, given the
+    forcing ``f``, ``_a`` (the accelerations ``M^-1 f``); the expressions are the
+    non-zero entries, then ``f``."""
     n = mass.shape[0]
     lower = [(i, j) for i in range(n) for j in range(max(0, i - bw), i + 1) if mass[i, j] != 0]
     exprs = [mass[i, j] for i, j in lower] + list(forcing)
-    lines = [f"_m = np.zeros(({n}, {bw + 1}))", f"_a = np.empty({n})"]
+    lines = [f"_m = np.zeros(({n}, {bw + 1}))"]
     lines += [f"_m[{i}, {i - j}] = {{{k}}}" for k, (i, j) in enumerate(lower)]
-    lines += [f"_a[{i}] = {{{len(lower) + i}}}" for i in range(n)]
-    lines += [f"band_factor(_m, {bw})", f"band_solve(_m, {bw}, _a)"]
+    lines.append(f"band_factor(_m, {bw})")
+    if len(forcing):
+        lines += [f"_a = np.empty({n})"] + [f"_a[{i}] = {{{len(lower) + i}}}" for i in range(n)]
+        lines.append(f"band_solve(_m, {bw}, _a)")
     return exprs, lines
 
 
@@ -149,7 +152,8 @@ def _banded_jac_source(source, mass, forcing, q_names, u_names):
     derivatives only, then ``M^-1`` applied to its lower half by the banded factor."""
     n = len(q_names)
     bw = half_bandwidth(mass)
-    exprs, lines = _banded_lines(mass, forcing, bw)
+    varying = any(e.free_symbols & set(q_names) for e in mass)   # else dM/dq a is zero
+    exprs, lines = _banded_lines(mass, forcing if varying else [], bw)
     column = {v: k for k, v in enumerate((*q_names, *u_names))}
     body = ["out[:, :] = 0.0", f"for _i in range({n}):", f"    out[_i, {n} + _i] = 1.0"]
     for i in range(n):
