@@ -18,8 +18,12 @@ numba. The generated text is mechdyn's own (never user text); it is compiled wit
 """
 from __future__ import annotations
 
+import re
+import string
+
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
+from sympy.simplify.cse_main import tree_cse
 
 from mechdyn.compile.generated import compile_source
 
@@ -50,7 +54,10 @@ class _Printer(PythonCodePrinter):
         return call_text(expr, self._print(expr.args[0]))
 
 
+_FORMATTER = string.Formatter()
+_NAME = re.compile(r"[A-Za-z_]\w*")
 _PRINTER = _Printer({"fully_qualified_modules": False, "standard": "python3"})
+_UNSORTED = _Printer({"fully_qualified_modules": False, "standard": "python3", "order": "none"})
 
 
 def printed(expr) -> str:
@@ -63,26 +70,37 @@ def safe_symbols(prefix: str, count: int) -> list:
     return [sp.Symbol(f"{prefix}{i}", real=True) for i in range(count)]
 
 
-def function_source(name, states, parameters, expressions, body, doc="", lines=()) -> str:
+def function_source(name, states, parameters, expressions, body, doc="", lines=(),
+                    large=False) -> str:
     """Source of ``def name(t, y, p, out)`` computing ``expressions`` with shared cse.
 
     ``states`` and ``parameters`` are the local names bound to ``y[i]`` and ``p[j]``;
     the expressions are bound to the locals ``_e0, _e1, ...``; ``lines`` are extra
     statements placed after them and ``body`` the statements that write ``out``, both
-    format strings over the expressions' local names (``"out[0] = {0}"``).
+    format strings over the expressions' local names (``"out[0] = {0}"``). ``large``
+    (a model of many coordinates): cse shares whole subtrees only, without its search
+    for common factors of products and sums (most of its time), and terms are printed
+    in sympy's own order.
     """
-    temporaries, reduced = sp.cse(list(expressions), symbols=sp.numbered_symbols("_c"),
-                                  order="none")
-    text = [f"def {name}(t, y, p, out):"]
+    symbols = sp.numbered_symbols("_c")
+    if large:
+        temporaries, reduced = tree_cse(list(expressions), symbols, {}, "none")
+        text_of = _UNSORTED.doprint
+    else:
+        temporaries, reduced = sp.cse(list(expressions), symbols=symbols, order="none")
+        text_of = printed
+    computed = [f"    {symbol} = {text_of(value)}" for symbol, value in temporaries]
+    computed += [f"    _e{i} = {text_of(expr)}" for i, expr in enumerate(reduced)]
+    names = [f"_e{i}" for i in range(len(reduced))]
+    # vformat reads the names by index: no unpacking of every name for every line
+    computed += ["    " + _FORMATTER.vformat(line, names, {}) for line in (*lines, *body)]
+    used = set(_NAME.findall("\n".join(computed)))      # read only what is used: numba
+    text = [f"def {name}(t, y, p, out):"]               # compiles every statement
     if doc:
         text.append(f'    """{doc}"""')
-    text += [f"    {n} = y[{i}]" for i, n in enumerate(states)]
-    text += [f"    {n} = p[{i}]" for i, n in enumerate(parameters)]
-    text += [f"    {symbol} = {printed(value)}" for symbol, value in temporaries]
-    text += [f"    _e{i} = {printed(expr)}" for i, expr in enumerate(reduced)]
-    names = [f"_e{i}" for i in range(len(reduced))]
-    text += ["    " + line.format(*names) for line in lines]
-    text += ["    " + line.format(*names) for line in body]
+    text += [f"    {n} = y[{i}]" for i, n in enumerate(states) if n in used]
+    text += [f"    {n} = p[{i}]" for i, n in enumerate(parameters) if n in used]
+    text += computed
     if len(text) == 1 + bool(doc):
         text.append("    pass")
     return "\n".join(text) + "\n"

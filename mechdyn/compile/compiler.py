@@ -49,7 +49,8 @@ def _generator_hash() -> str:
     package = Path(__file__).parents[1]
     digest = hashlib.sha256()
     for module in ("derive/lagrange.py", "derive/terms.py", "compile/codegen.py",
-                   "compile/generate.py", "compile/mass_solve.py",
+                   "compile/generate.py", "compile/mass_solve.py", "compile/band_linalg.py",
+                   "compile/reroll.py", "compile/numba_model.py",
                    "compile/generated.py", "compile/compiler.py", "declare/elements.py",
                    "symbols.py", "compile/loop_code.py", "compile/output_code.py",
                    "declare/unilateral.py"):

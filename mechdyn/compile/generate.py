@@ -40,7 +40,7 @@ from mechdyn.compile.table_code import table_constants
 from mechdyn.declare.elements import Constraint
 from mechdyn.compile.output_code import friction_signed, outputs as scene_outputs, slip_signed
 from mechdyn.symbols import t
-from mechdyn.compile.mass_solve import (_jac_source, _rhs_source)
+from mechdyn.compile.mass_solve import UNROLLED_LIMIT, _jac_source, _rhs_source
 
 __all__ = ["generate"]
 
@@ -96,7 +96,8 @@ def generate(eqs, scene, elements) -> tuple:
         + [f"side of {f}" for f in switches.functions]) + "]")
 
     def source(name, exprs, body, lines=()):
-        return function_source(name, states, parameters, exprs, body, doc, lines)
+        return function_source(name, states, parameters, exprs, body, doc, lines,
+                               large=n > UNROLLED_LIMIT)
 
     mass, force = r(mass_matrix), r(forcing)
     constraints = eqs.constraints
@@ -137,7 +138,7 @@ def generate(eqs, scene, elements) -> tuple:
         sources = [_rhs_source(source, mass, force, n, states, coordinates),
                    _jac_source(source, mass, force, q_names, u_names)]
     sources += [
-        source("terms", term_exprs, [f"out[{i}] = {{{i}}}" for i in range(len(term_exprs))]),
+        _terms_source(source, term_exprs),
         source("events", event_exprs, [f"out[{i}] = {{{i}}}" for i in range(len(event_exprs))]),
         source("outputs", [r(e) for e in output_exprs],
                [f"out[{i}] = {{{i}}}" for i in range(len(output_exprs))]),
@@ -217,7 +218,7 @@ class Switches:
     def lock(self, expr):
         expr = sp.sympify(expr)
         if isinstance(expr, sp.MatrixBase):
-            return expr.applyfunc(self.lock)
+            return expr.applyfunc(lambda e: self.lock(e) if e != 0 else e)
         return expr.replace(lambda e: isinstance(e, (sp.Min, sp.Max, sp.Abs, sp.sign,
                                                      sp.Heaviside, sp.Piecewise)),
                             self._locked)
@@ -359,6 +360,14 @@ def _terms_layout(n, mass, forcing, groups):
     for name, shape, entries in groups:
         add(name, shape, entries)
     return layout, exprs
+
+
+def _terms_source(source, exprs):
+    """``terms`` writing only its non-zero entries (the caller's ``out`` is zeros): a
+    large model's mass matrix is mostly zeros."""
+    nonzero = [i for i, e in enumerate(exprs) if e != 0]
+    return source("terms", [exprs[i] for i in nonzero],
+                  [f"out[{i}] = {{{k}}}" for k, i in enumerate(nonzero)])
 
 
 def _frozen_index(friction, state) -> int:

@@ -99,8 +99,7 @@ class CompiledScene:
         self._sizes = {"terms": sum(int(np.prod(shape)) for _, shape in self.layout.values()),
                        "events": len(self.event_kinds), "outputs": len(self.output_labels)}
         from mechdyn.compile import loop_numeric
-        self.raw = compile_source(source, {"spd_solve": _spd_solve,
-                                           "jac_assemble": _jac_assemble,
+        self.raw = compile_source(source, {**_band_helpers(source),
                                            "numeric_jacobian": loop_numeric.numeric_jacobian,
                                            "numeric_minors": loop_numeric.numeric_minors,
                                            "loop_solve": loop_numeric.loop_solve})
@@ -208,30 +207,12 @@ def _floats(y):
     return y.tolist() if type(y) is np.ndarray else y
 
 
-def _spd_solve(mass, forcing, n, out, offset):
-    """``out[offset:offset + n] = M^-1 f`` for large mass matrices (NaN if singular)."""
-    try:
-        a = np.linalg.solve(np.reshape(mass, (n, n)), forcing)
-    except np.linalg.LinAlgError:
-        a = np.full(n, np.nan)
-    for i in range(n):
-        out[offset + i] = float(a[i])
-
-
-def _jac_assemble(flat, n, out):
-    """The Jacobian of a large system from ``M``, ``f``, ``dM/dq_k`` and ``df/d(q, u)``."""
-    flat = np.asarray(flat, dtype=float)
-    mass = flat[:n * n].reshape(n, n)
-    forcing = flat[n * n:n * n + n]
-    offset = n * n + n
-    mass_derivatives = flat[offset:offset + n ** 3].reshape(n, n, n)
-    derivatives = flat[offset + n ** 3:].reshape(2 * n, n)      # [variable, equation]
-    try:
-        acceleration = np.linalg.solve(mass, forcing)
-        a_q = derivatives[:n].T - np.einsum("kij,j->ik", mass_derivatives, acceleration)
-        blocks = np.linalg.solve(mass, np.hstack([a_q, derivatives[n:].T]))
-    except np.linalg.LinAlgError:
-        blocks = np.full((n, 2 * n), np.nan)
-    out[:, :] = 0.0
-    out[:n, n:] = np.eye(n)
-    out[n:, :] = blocks
+def _band_helpers(source) -> dict:
+    """The compiled banded solves a large model's code calls (numba is imported only for
+    such a model), and numpy for its work arrays."""
+    if "band_factor(" not in source:
+        return {}
+    from mechdyn.compile import band_linalg
+    return {"np": np, "band_factor": band_linalg.band_factor,
+            "band_solve": band_linalg.band_solve,
+            "band_solve_rows": band_linalg.band_solve_rows}

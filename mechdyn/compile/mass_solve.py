@@ -1,12 +1,27 @@
 """Code for ``M a = f``: the lines of an unrolled Cholesky factorisation and solve (NaN
 where ``M`` is not positive definite, so a solver rejects the step), and the sources of
-``rhs`` and its analytic Jacobian built on them (see :mod:`mechdyn.compile.generate`)."""
+``rhs`` and its analytic Jacobian built on them (see :mod:`mechdyn.compile.generate`).
+
+Up to ``UNROLLED_LIMIT`` coordinates the factorisation is unrolled in scalar code. Beyond
+it the generated code writes the structurally non-zero entries of ``M`` into its lower
+band (the half-bandwidth read from the derived matrix: 1 for a chain, ``n - 1`` dense)
+and factors it with :mod:`mechdyn.compile.band_linalg` (compiled: ``n bw^2`` work, not
+``n^3``); a diagonal ``M`` is divided, whatever its size. Only non-zero terms are
+generated, so the code grows with the number of non-zero entries, not with ``n^2``.
+
+>>> import sympy as sp
+>>> q = sp.symbols("q0:12")
+>>> mass = sp.diag(*[2 + sp.cos(x) for x in q]) + sp.Matrix(12, 12, lambda i, j:
+...     1 if abs(i - j) == 1 else 0)
+>>> half_bandwidth(mass)
+1
+"""
 from __future__ import annotations
 
 import sympy as sp
 
 
-__all__ = ["UNROLLED_LIMIT"]
+__all__ = ["UNROLLED_LIMIT", "half_bandwidth"]
 
 UNROLLED_LIMIT = 8          # DOF up to which the Cholesky solve is unrolled in code
 
@@ -52,13 +67,14 @@ def _lower_names(mass, names):
 
 
 def _rhs_source(source, mass, forcing, n, states, coordinates):
-    """dy/dt = [u, M^-1 f] with an unrolled Cholesky solve (numpy beyond the limit)."""
+    """dy/dt = [u, M^-1 f] with an unrolled Cholesky solve (banded beyond the limit)."""
     speeds = [f"out[{i}] = {states[n + i]}" for i in range(n)]
-    if n > UNROLLED_LIMIT:
-        exprs = list(mass) + list(forcing)
-        body = speeds + ["spd_solve([" + "{}, " * (n * n) + "], [" + "{}, " * n
-                         + f"], {n}, out, {n})"]
-        return source("rhs", exprs, body)
+    bw = half_bandwidth(mass)
+    if n > UNROLLED_LIMIT and bw > 0:
+        exprs, lines = _banded_lines(mass, forcing, bw)
+        body = [f"for _i in range({n}):", f"    out[_i] = y[{n} + _i]",
+                f"    out[{n} + _i] = _a[_i]"]
+        return source("rhs", exprs, body, lines)
     names = iter(f"{{{k}}}" for k in range(n * n + n))
     m = _lower_names(mass, names)
     exprs = [mass[i, j] for (i, j), name in m.items() if name is not None] + list(forcing)
@@ -79,10 +95,7 @@ def _jac_source(source, mass, forcing, q_names, u_names):
     n = len(q_names)
     identity = ["out[:, :] = 0.0"] + [f"out[{i}, {n + i}] = 1.0" for i in range(n)]
     if n > UNROLLED_LIMIT:
-        exprs = list(mass) + list(forcing)
-        exprs += [sp.diff(mass[i, j], qk) for qk in q_names for i in range(n) for j in range(n)]
-        exprs += [sp.diff(forcing[i], v) for v in (*q_names, *u_names) for i in range(n)]
-        return source("jac", exprs, ["jac_assemble([" + "{}, " * len(exprs) + f"], {n}, out)"])
+        return _banded_jac_source(source, mass, forcing, q_names, u_names)
     names = iter(f"{{{k}}}" for k in range(2 * n ** 3 + 4 * n * n))
     m = _lower_names(mass, names)
     exprs = [mass[i, j] for (i, j), name in m.items() if name is not None] + list(forcing)
@@ -109,3 +122,68 @@ def _jac_source(source, mass, forcing, q_names, u_names):
         body += [f"out[{n + i}, {k}] = q{k}_{i}" for i in range(n)]
         body += [f"out[{n + i}, {n + k}] = u{k}_{i}" for i in range(n)]
     return source("jac", exprs, body, lines)
+
+
+# ------------------------------------------------------- large models: banded, numeric
+def half_bandwidth(mass) -> int:
+    """The largest ``|i - j|`` of a structurally non-zero entry of ``mass``."""
+    n = mass.shape[0]
+    return max((i - j for i in range(n) for j in range(i) if mass[i, j] != 0), default=0)
+
+
+def _banded_lines(mass, forcing, bw):
+    """Expressions and lines leaving ``_m`` (the factor of ``M``'s band) and, given the
+    forcing ``f``, ``_a`` (the accelerations ``M^-1 f``); the expressions are the
+    non-zero entries, then ``f``."""
+    n = mass.shape[0]
+    lower = [(i, j) for i in range(n) for j in range(max(0, i - bw), i + 1) if mass[i, j] != 0]
+    exprs = [mass[i, j] for i, j in lower] + list(forcing)
+    lines = [f"_m = np.zeros(({n}, {bw + 1}))"]
+    lines += [f"_m[{i}, {i - j}] = {{{k}}}" for k, (i, j) in enumerate(lower)]
+    lines.append(f"band_factor(_m, {bw})")
+    if len(forcing):
+        lines += [f"_a = np.empty({n})"] + [f"_a[{i}] = {{{len(lower) + i}}}" for i in range(n)]
+        lines.append(f"band_solve(_m, {bw}, _a)")
+    return exprs, lines
+
+
+def _banded_jac_source(source, mass, forcing, q_names, u_names):
+    """The Jacobian of a large model: ``[df/dq - dM/dq a, df/du]`` from the non-zero
+    derivatives only, then ``M^-1`` applied to its lower half by the banded factor."""
+    n = len(q_names)
+    bw = half_bandwidth(mass)
+    varying = any(e.free_symbols & set(q_names) for e in mass)   # else dM/dq a is zero
+    exprs, lines = _banded_lines(mass, forcing if varying else [], bw)
+    column = {v: k for k, v in enumerate((*q_names, *u_names))}
+    body = ["out[:, :] = 0.0", f"for _i in range({n}):", f"    out[_i, {n} + _i] = 1.0"]
+    for i in range(n):
+        for v in sorted(forcing[i].free_symbols & column.keys(), key=column.get):
+            body.append(f"out[{n + i}, {column[v]}] = {{{len(exprs)}}}")
+            exprs.append(_derivative(forcing[i], v))
+    for i in range(n):
+        for j in range(max(0, i - bw), i + 1):
+            if mass[i, j] == 0:
+                continue
+            for v in sorted(mass[i, j].free_symbols & set(q_names), key=column.get):
+                body.append(f"out[{n + i}, {column[v]}] -= {{{len(exprs)}}} * _a[{j}]")
+                if i != j:
+                    body.append(f"out[{n + j}, {column[v]}] -= {{{len(exprs)}}} * _a[{i}]")
+                exprs.append(_derivative(mass[i, j], v))
+    body.append(f"band_solve_rows(_m, {bw}, out, {n})")
+    return source("jac", exprs, body, lines)
+
+
+def _derivative(expr, x):
+    """``d expr / d x`` by the sum and product rules down to the terms that hold ``x``
+    (sympy's ``diff`` costs milliseconds per call, whatever the size of the term)."""
+    if x not in expr.free_symbols:
+        return sp.S.Zero
+    if expr == x:
+        return sp.S.One
+    if expr.is_Add:
+        return sp.Add(*[_derivative(term, x) for term in expr.args if x in term.free_symbols])
+    if expr.is_Mul:
+        factors = expr.args
+        return sp.Add(*[sp.Mul(*factors[:k], _derivative(factor, x), *factors[k + 1:])
+                        for k, factor in enumerate(factors) if x in factor.free_symbols])
+    return sp.diff(expr, x)

@@ -208,31 +208,47 @@ def _lagrange(kinetic, q, u):
     """
     n = len(q)
     at_rest = {ui: sp.S.Zero for ui in u}
-    momenta = [_diff(kinetic, ui) for ui in u]
+    momenta = _momenta(kinetic, u)
     mass = sp.Matrix(n, n, lambda i, j: _diff(momenta[i], u[j]))
     b = [m.xreplace(at_rest) for m in momenta]
     base = kinetic.xreplace(at_rest)
+    entries = mass.tolist()
     # Only entries of M that hold q_k have a slope along it (a chain's M holds none).
-    slopes = {(i, j, k): _diff(mass[i, j], q[k])
-              for i in range(n) for j in range(n) if mass[i, j].free_symbols
-              for k in range(n) if q[k] in mass[i, j].free_symbols}
+    slopes = {(i, j, k): _diff(entries[i][j], q[k])
+              for i in range(n) for j in range(n) if entries[i][j].free_symbols
+              for k in range(n) if q[k] in entries[i][j].free_symbols}
+    pairs = [set() for _ in range(n)]     # per i: the (j <= k) with a Christoffel symbol
+    for i, j, k in slopes:
+        pairs[i].add((min(j, k), max(j, k)))
+        pairs[k].add((min(i, j), max(i, j)))
     zero = sp.S.Zero
     inertial = sp.zeros(n, 1)
     for i in range(n):
         terms = []
+        for j, k in sorted(pairs[i]):
+            parts = (slopes.get((i, j, k), zero), slopes.get((i, k, j), zero),
+                     slopes.get((j, k, i), zero))
+            christoffel = (parts[0] + parts[1] - parts[2]) / 2
+            terms.append(-christoffel * u[j] * u[k] * (1 if j == k else 2))
         for j in range(n):
-            for k in range(j, n):
-                parts = (slopes.get((i, j, k), zero), slopes.get((i, k, j), zero),
-                         slopes.get((j, k, i), zero))
-                if all(part is zero for part in parts):
-                    continue
-                christoffel = (parts[0] + parts[1] - parts[2]) / 2
-                terms.append(-christoffel * u[j] * u[k] * (1 if j == k else 2))
-            terms.append(-_diff(mass[i, j], t) * u[j])
+            terms.append(-_diff(entries[i][j], t) * u[j])
             terms.append((_diff(b[j], q[i]) - _diff(b[i], q[j])) * u[j])
         terms += [-_diff(b[i], t), _diff(base, q[i])]
         inertial[i] = sp.Add(*[term for term in terms if term is not zero])
     return mass, inertial
+
+
+def _momenta(kinetic, u):
+    """``dT/du_i`` for every speed, each from the terms of ``T`` that hold ``u_i`` (one
+    pass over the terms: a chain of N bodies has N of them)."""
+    if not kinetic.is_Add:
+        return [_diff(kinetic, ui) for ui in u]
+    holding = {ui: [] for ui in u}
+    for term in kinetic.args:
+        for symbol in term.free_symbols:
+            if symbol in holding:
+                holding[symbol].append(term)
+    return [sp.Add(*[sp.diff(term, ui) for term in holding[ui]]) for ui in u]
 
 
 def _diff(expr, x):
