@@ -64,11 +64,6 @@ def numba_functions(compiled):
     return functions
 
 
-def is_loaded(compiled) -> bool:
-    """Whether the compiled form of a scene is in memory already (cheap to use)."""
-    return compiled.key in _loaded
-
-
 def _split(source) -> dict:
     """The generated functions' sources by name."""
     pieces, name = {}, None
