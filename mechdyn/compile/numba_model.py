@@ -11,7 +11,7 @@ and numba's cache files (pickles, so loading them runs code) go into a folder of
 own, and an authenticated manifest records the SHA-256 of every file in it. They are
 loaded only when every file matches the manifest; otherwise the folder is wiped and the
 code compiled again. Without a disk cache the code is compiled in a temporary folder for
-the process.
+the process; where the cache cannot be written (a full disk), in memory.
 
 >>> import mechdyn as md
 >>> model = md.load_model("models/shoe_brake.py")
@@ -27,6 +27,7 @@ import importlib.util
 import shutil
 import sys
 import tempfile
+from contextlib import suppress
 from pathlib import Path
 
 from mechdyn import cache
@@ -100,6 +101,21 @@ def _load(key, sources):
         folder = Path(tempfile.mkdtemp(prefix="mechdyn-numba-"))
         module = _import(folder, key, text)
         return model_functions(module.rhs, module.jac, module.events)
+    try:
+        return _load_cached(directory, key, text)
+    except OSError:             # a full or size-limited disk: compiled in memory instead
+        shutil.rmtree(directory / "numba" / key, ignore_errors=True)
+        with suppress(OSError):
+            (directory / "numba").rmdir()                  # if nothing else is in it
+        namespace = {"__name__": f"mechdyn_model_{key}"}
+        exec(compile(text.replace("cache=True", "cache=False"), f"<mechdyn model {key}>",
+                     "exec"), namespace)
+        return model_functions(namespace["rhs"], namespace["jac"], namespace["events"])
+
+
+def _load_cached(directory, key, text):
+    """The scene's functions from the trusted numba folder, compiled into it if needed."""
+    from mechdyn.kernels import model_functions
     (directory / "numba").mkdir(mode=0o700, exist_ok=True)
     folder = directory / "numba" / key
     manifest = cache.load(f"numba-{key}.json")

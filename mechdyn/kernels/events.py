@@ -53,12 +53,12 @@ def _g_at(events, p, i, t, t_old, h, poly, y_work, g_work):
 @njit
 def _root(events, p, i, t_old, h, poly, ta, ga, tb, gb, y_work, g_work, counts):
     """A root of g_i in [ta, tb] with g(ta) of the old sign (or 0), g(tb) of the new:
-    the first point on the new side once the bracket is below 4 eps |t|."""
+    the first point on the new side once the bracket is below 4 eps |t| (also where g
+    sits at zero at ta: a function that leaves zero fires where it has left it, so
+    the state there is on the new side), or an interior point where g is 0."""
     side = 0
     checked_width = tb - ta
     for iteration in range(MAX_ITERATIONS):
-        if ga == 0.0:
-            return ta
         width = tb - ta
         if width <= 4.0 * EPS * max(abs(ta), abs(tb)):
             break
