@@ -1,10 +1,15 @@
 """Parameter sweeps: run one scene over a grid of parameter values on any Executor.
 
-The equations are derived and compiled once, in the calling process; the workers receive
-the mechanism, the scene and the generated code once each (local processes: when they
-start; other executors: with each point, unpickled once per worker), so they neither
-derive nor compile. Any :class:`concurrent.futures.Executor` runs the points: local
-processes by default, a Dask cluster through ``distributed.Client(...).get_executor()``.
+The equations are derived and compiled once, in the calling process (with the compiled
+kernels' form of the scene, which the points then run on: ``backend="auto"``); the
+workers receive the mechanism, the scene and the generated code once each (local
+processes: when they start; other executors: with each point, unpickled once per
+worker), so they neither derive nor compile. Any :class:`concurrent.futures.Executor`
+runs the points. By default (no ``executor``, no ``workers``) the points run in the
+calling process for ``HERE_SECONDS`` first (a compiled point takes well under a
+millisecond, and starting a worker process costs about a second), and local processes,
+one per core, take what is left; a Dask cluster through
+``distributed.Client(...).get_executor()``.
 
 Limits and faults:
 
@@ -53,6 +58,7 @@ __all__ = ["sweep", "Sweep", "SweepError", "SweepFileError", "MAX_POINTS", "IN_F
 
 
 IN_FLIGHT = 512              # tasks submitted and not yet collected, at most
+HERE_SECONDS = 1.0           # default: points run in the calling process this long first
 BATCH_SECONDS = 0.05         # work per task once the cost of a point is known
 _MAX_BATCH = 64              # points per task, at most
 _PARENT_CHECK = 0.5          # s between a worker's checks that its parent still lives
@@ -79,7 +85,8 @@ def sweep(mechanism, scene, params, grid, executor=None, out=None, progress=True
     progress : bool
         Show a tqdm progress bar (when tqdm is installed and the output is a terminal).
     workers : int, optional
-        Local worker processes when no ``executor`` is given (default: all cores).
+        Local worker processes when no ``executor`` is given (default: the calling
+        process for the first ``HERE_SECONDS``, then one process per core).
     max_points : int
         Refuse grids with more points (default :data:`MAX_POINTS`).
     fresh : bool
@@ -120,8 +127,14 @@ def sweep(mechanism, scene, params, grid, executor=None, out=None, progress=True
         if todo:
             job = _Job(mechanism, scene, values.numbers, tuple(names), compiled.key,
                        compiled.meta, compiled.source)
-            _run(job, todo, table, executor or workers,
-                 _bar(progress, len(points), len(table.rows)))
+            bar = _bar(progress, len(points), len(table.rows))
+            if executor is None and workers is None:
+                _load_kernels(compiled, scene)    # once, before any point or worker
+                todo = _run_here(job, todo, table, bar, HERE_SECONDS)
+            if todo:
+                _run(job, todo, table, executor or workers, bar)
+            elif bar is not None:
+                bar.close()
         rows = [table.rows[point] for point in points]
     default_y = "t_end" if scene.until else next(
         (c for c in columns if c.startswith("peak:")), f"final:{compiled.state_names[-1]}")
@@ -239,8 +252,9 @@ def _install(digest, blob):
     if job is None:
         job = _jobs[digest] = pickle.loads(blob)
         from mechdyn.compile import compiler as compile_module
-        compile_module._memory_cache.setdefault(
+        compiled = compile_module._memory_cache.setdefault(
             job.key, compile_module.CompiledScene(job.meta, job.source, job.key))
+        _load_kernels(compiled, job.scene)
     return job
 
 
@@ -292,6 +306,26 @@ def _peaks(result, labels, points=1001) -> dict:
         times = np.union1d(np.linspace(times[0], times[-1], points), times)
     series = result.outputs_at(times)
     return {label: float(v[np.argmax(np.abs(v))]) for label, v in series.items()}
+
+
+def _load_kernels(compiled, scene):
+    """Compile or load the scene's compiled form once in the calling process (the disk
+    cache then serves every worker), where its runs will use it."""
+    if scene.backend != "scipy":
+        from mechdyn.simulate.methods import uses_kernels
+        uses_kernels(compiled, scene.method)
+
+
+def _run_here(job, todo, table, bar, seconds) -> list:
+    """Run points in the calling process for about ``seconds``: the points left."""
+    started = time.perf_counter()
+    for done, point in enumerate(todo):
+        if time.perf_counter() - started > seconds:
+            return todo[done:]
+        table.add(_row(job, point))
+        if bar is not None:
+            bar.update()
+    return []
 
 
 def _run(job, todo, table, executor, bar):
