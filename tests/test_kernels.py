@@ -321,13 +321,22 @@ def scipy_function(rhs, p):
 
 
 def test_dop853_agrees_with_scipy_dop853_on_a_nonlinear_crank():
+    # The same method at the same tolerance: about the same steps and the same global
+    # error against a tight reference. (Comparing the two runs with each other would
+    # test the last step of the controllers: one step more or less on another machine
+    # or scipy release moves them 1e-8 apart, while both are 1e-7 off the motion.)
     p = [0.5, 2.0, 3.0]
     run, chunk = solve(crank, p, [0.0, 0.0], 5.0, mk.DOP853)
-    reference = solve_ivp(scipy_function(crank, p), (0.0, 5.0), [0.0, 0.0], method="DOP853",
-                          rtol=1e-10, atol=1e-12, dense_output=True)
+    f = scipy_function(crank, p)
+    scipy_run = solve_ivp(f, (0.0, 5.0), [0.0, 0.0], method="DOP853", rtol=1e-10,
+                          atol=1e-12, dense_output=True)
+    tight = solve_ivp(f, (0.0, 5.0), [0.0, 0.0], method="DOP853", rtol=3e-14, atol=1e-16,
+                      dense_output=True)
     times = np.linspace(0.0, 5.0, 101)
-    mine = mk.dense_values(chunk.ts, chunk.coefs, times)
-    assert np.max(np.abs(mine - reference.sol(times).T)) < 1e-8
+    mine = np.max(np.abs(mk.dense_values(chunk.ts, chunk.coefs, times) - tight.sol(times).T))
+    theirs = np.max(np.abs(scipy_run.sol(times).T - tight.sol(times).T))
+    assert mine < 1e-6 and mine <= 1.25 * theirs
+    assert abs(len(chunk.ts) - len(scipy_run.t)) <= 0.05 * len(scipy_run.t)
 
 
 def test_rodas5p_agrees_with_scipy_radau_on_robertson_kinetics():

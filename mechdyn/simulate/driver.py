@@ -127,6 +127,8 @@ class Driver:
                                                              muted)
                     if stop is not None:
                         reason = stop
+                        self.trajectory.segments[-1].settle(y)
+                        self.trajectory.changed()
                         break
                     method, h = self._choose(mode, t, y, method), None
         except SimulationError as error:

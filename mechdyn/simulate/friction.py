@@ -311,6 +311,9 @@ class FrictionModes:
         for k in mode.stuck:
             if self.frozen[k] >= 0:
                 y[self.n + self.frozen[k]] = 0.0
+        held = np.vstack([view.terms["constraint_gradient"], g]) if self.c.constraints else g
+        if np.linalg.matrix_rank(held) == self.n:
+            y[self.n:] = 0.0    # nothing can move: at rest exactly, not within rounding
         return y
 
     # ------------------------------------------------------------- events

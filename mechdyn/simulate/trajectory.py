@@ -62,6 +62,15 @@ class Segment:
         self._steps += len(times)
         self._frozen = None
 
+    def settle(self, y):
+        """Replace the last point's state by ``y``, the same state after an event's
+        projection (a stuck element's speed exactly zero): the run ends there."""
+        t, states, c = self._chunks[-1]
+        states = np.array(states, dtype=float)
+        states[-1] = y
+        self._chunks[-1] = (t, states, c)
+        self._y_end, self._frozen = states[-1], None
+
     @property
     def t_start(self):
         return float(self._chunks[0][0][0])
