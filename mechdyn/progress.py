@@ -72,7 +72,7 @@ class ProgressLine:
 
 
 @contextmanager
-def announce(what, expected, stream=None, delay=1.0, every=5.0):
+def announce(what, expected, stream=None, delay=3.0, every=5.0):
     """Announce a one-time wait on ``stream`` (stderr) once it has lasted ``delay``
     seconds: what happens, the ``expected`` seconds, and the seconds elapsed every
     ``every`` seconds (a numba compilation gives no finer progress; it runs in foreign

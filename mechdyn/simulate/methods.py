@@ -236,6 +236,14 @@ class BackendPlan:
             return STIFF
         return name
 
+    def functions_for(self, method):
+        """The compiled functions a segment of ``method`` steps: Rodas5P's with the
+        analytic Jacobian (compiled when first needed), DOP853's without."""
+        if method != "Rodas5P":
+            return self.functions
+        from mechdyn.compile.numba_model import numba_functions
+        return numba_functions(self.c, jac=True)
+
     def backend(self, method, mode) -> str:
         return "compiled" if (self.active and method in _KERNEL and self.compilable(mode)) \
             else "scipy"
