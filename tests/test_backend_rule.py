@@ -84,9 +84,21 @@ def test_a_second_run_and_a_scipy_run_keep_their_backends():
 
 
 def test_a_method_only_scipy_has_runs_on_scipy_and_stuck_friction_too():
+    pytest.importorskip("numba")
     crank = md.load_model(CRANK)
     scene = replace(crank.scenes["startup"], method="RK45", rtol=1e-6, atol=1e-8)
     assert set(crank.mechanism.simulate(scene, crank.params).stats["backends"]) == {"scipy"}
+    # The clutch slips (compiled), then sticks at 0.875 s (scipy: the constrained
+    # equations), the same way on every run.
+    clutch = md.load_model(ROOT / "models" / "clutch_engagement.py")
+    runs = [clutch.mechanism.simulate(clutch.scenes["engage"], clutch.params)
+            for _ in range(2)]
+    stick = next(e.time for e in runs[0].events if e.kind == "stick")
+    assert set(runs[0].stats["backends"]) == {"compiled", "scipy"}
+    assert runs[0].stats["backends"] == runs[1].stats["backends"]
+    np.testing.assert_array_equal(runs[0].y, runs[1].y)
+    steps_before_stick = int(np.sum(runs[0].t[1:] <= stick))
+    assert runs[0].stats["backends"]["compiled"] == steps_before_stick
 
 
 def test_blas_runs_single_threaded_inside_a_run_and_the_setting_comes_back():
