@@ -125,3 +125,17 @@ def test_blas_runs_single_threaded_inside_a_run_and_the_setting_comes_back():
 def _nested(context, probe):
     with context():
         return probe()
+
+
+def test_sweep_points_give_the_same_rows_in_this_process_and_in_workers(monkeypatch):
+    """A sweep at its defaults runs points here first, then on worker processes: where a
+    point runs does not change its row (the same rule, the same compiled code)."""
+    from mechdyn.analyse import sweeps
+    drive = md.load_model(ROOT / "models" / "two_mass_drive.py")
+    grid = {"k": [1000.0, 2500.0, 4000.0]}
+    here = md.sweep(drive.mechanism, drive.scenes["start"], drive.params, grid,
+                    progress=False)
+    monkeypatch.setattr(sweeps, "HERE_SECONDS", 0.0)        # every point to the workers
+    there = md.sweep(drive.mechanism, drive.scenes["start"], drive.params, grid,
+                     progress=False)
+    assert here.rows == there.rows and not here.failed

@@ -133,8 +133,6 @@ def sweep(mechanism, scene, params, grid, executor=None, out=None, progress=True
                 todo = _run_here(job, todo, table, bar, HERE_SECONDS)
             if todo:
                 _run(job, todo, table, executor or workers, bar)
-            elif bar is not None:
-                bar.close()
         rows = [table.rows[point] for point in points]
     default_y = "t_end" if scene.until else next(
         (c for c in columns if c.startswith("peak:")), f"final:{compiled.state_names[-1]}")
@@ -317,15 +315,21 @@ def _load_kernels(compiled, scene):
 
 
 def _run_here(job, todo, table, bar, seconds) -> list:
-    """Run points in the calling process for about ``seconds``: the points left."""
-    started = time.perf_counter()
-    for done, point in enumerate(todo):
-        if time.perf_counter() - started > seconds:
-            return todo[done:]
-        table.add(_row(job, point))
-        if bar is not None:
-            bar.update()
-    return []
+    """Run points in the calling process for about ``seconds``: the points left (the
+    bar is closed when none are left, or on an interruption)."""
+    started, left = time.perf_counter(), []
+    try:
+        for done, point in enumerate(todo):
+            if time.perf_counter() - started > seconds:
+                left = todo[done:]
+                break
+            table.add(_row(job, point))
+            if bar is not None:
+                bar.update()
+    finally:
+        if bar is not None and not left:
+            bar.close()
+    return left
 
 
 def _run(job, todo, table, executor, bar):
