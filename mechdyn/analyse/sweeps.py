@@ -136,7 +136,8 @@ def sweep(mechanism, scene, params, grid, executor=None, out=None, progress=True
         rows = [table.rows[point] for point in points]
     default_y = "t_end" if scene.until else next(
         (c for c in columns if c.startswith("peak:")), f"final:{compiled.state_names[-1]}")
-    return Sweep(names, columns, rows, default_y, out)
+    return Sweep(names, columns, rows, default_y, out,
+                 _column_units(mechanism, scene, compiled, names))
 
 
 class Sweep:
@@ -144,12 +145,19 @@ class Sweep:
 
     ``sweep[column]`` is an array (floats; strings for ``reason`` and ``error``);
     ``rows`` the dicts; ``failed`` the rows whose simulation failed; ``parameters`` the
-    swept names; ``path`` the CSV file (or None).
+    swept names; ``path`` the CSV file (or None); ``units`` the SI unit of each column
+    (``""`` where it has none or it is not known), ``label(column)`` ``"P [N]"``.
     """
 
-    def __init__(self, parameters, columns, rows, default_y, path=None):
+    def __init__(self, parameters, columns, rows, default_y, path=None, units=None):
         self.parameters, self.columns, self.rows = list(parameters), list(columns), rows
         self.default_y, self.path = default_y, path
+        self.units = dict(units or {})
+
+    def label(self, column) -> str:
+        """``column [unit]`` (the values' SI unit), or the column alone."""
+        unit = self.units.get(column, "")
+        return f"{column} [{unit}]" if unit else column
 
     def __len__(self):
         return len(self.rows)
@@ -203,6 +211,26 @@ def _grid_points(grid, compiled, max_points):
                              f"max_points = {max_points:,}; raise the limit (max_points=, "
                              "--max-points) if you mean it")
     return names, list(itertools.product(*axes))
+
+
+def _column_units(mechanism, scene, compiled, names) -> dict:
+    """The SI unit of the values of each column."""
+    from mechdyn.declare.output_units import output_units
+    from mechdyn.units import dimension, si_factor
+
+    def si(unit):
+        if not unit or si_factor(unit) == 1:
+            return "" if unit == "1" else unit or ""
+        return dimension(unit).si
+    units = {name: si(mechanism.parameter_units.get(name, "")) for name in names}
+    units["t_end"] = "s"
+    n = len(compiled.state_names) // 2
+    for position, speed in zip(compiled.state_names[:n], compiled.state_names[n:]):
+        unit = si(mechanism.units.get(position, "rad"))
+        units[f"final:{position}"], units[f"final:{speed}"] = unit, f"{unit}/s"
+    for label, unit in output_units(mechanism, scene).items():
+        units[f"peak:{label}"] = unit or ""
+    return units
 
 
 def _columns(names, compiled):

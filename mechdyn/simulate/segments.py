@@ -32,13 +32,16 @@ class Watched:
     group for a release; the minor), ``element`` (the stop condition, friction element or
     stop limit, else -1), ``direction`` (+1, -1, 0), ``side`` (+1/-1: the side a zero
     counts as; 0: a zero takes the side the function moves to) and ``offset`` (the value
-    that counts as zero: a gap negative by rounding at the segment's start)."""
+    that counts as zero: a gap negative by rounding at the segment's start); ``timed``: a
+    function of t alone, whose crossings the driver knows in advance
+    (:mod:`mechdyn.simulate.time_events`): not looked for on the steps."""
     kind: str
     index: int
     element: int
     direction: int
     side: int
     offset: float = 0.0
+    timed: bool = False
 
     @property
     def compiled(self) -> bool:
@@ -58,11 +61,12 @@ def watched_events(modes, scene, mode, muted, t0, y0, minor=None) -> list:
     switches = [i for i, (kind, _) in enumerate(kinds) if kind == "switch"]
     rates = [i for i, (kind, _) in enumerate(kinds) if kind == "rate"]
     magnitudes = [i for i, (kind, _) in enumerate(kinds) if kind == "magnitude"]
-    out = [Watched("stop", i, j, int(c.direction), 0)
+    timed = set(compiled.meta.get("timed", ()))
+    out = [Watched("stop", i, j, int(c.direction), 0, timed=i in timed)
            for j, (i, c) in enumerate(zip(stops, scene.until))]
     for j, i in enumerate(switches):
         if i not in muted:
-            out.append(Watched("switch", i, -1, 0, int(mode.flags[j])))
+            out.append(Watched("switch", i, -1, 0, int(mode.flags[j]), timed=i in timed))
     for k, sign in enumerate(mode.signs):           # zero counts as the sliding side
         if sign != 0:
             out.append(Watched("stick", rates[k], k, int(-sign), int(sign)))
@@ -92,22 +96,25 @@ def scipy_runner(context, mode, method, t0, y0, t_end, h, watched, rtol, atol, m
     if method in WITH_JACOBIAN and constrained is None:
         jac = tolerant(lambda t, y: c.jac(t, y, p), (size, size))
     watch = _event_watch(c, modes, mode, p, watched)
-    max_step = context.max_step if mode.groups else np.inf
+    max_step = context.max_step if mode.groups else context.period_step
     return ScipySegment(method, fun, jac, t0, y0, t_end, rtol, atol, segment, watch,
                         monitor, first_step=h, max_step=max_step, min_step=min_step,
-                        drift=drift)
+                        drift=drift, revolving=c.meta.get("revolving", ()))
 
 
 def compiled_runner(context, functions, mode, method, t0, y0, t_end, h, watched, rtol,
                     atol, segment, switch):
     """A :class:`CompiledSegment` (every watched event an entry of ``events``, counting
-    zero as zero: no offset)."""
+    zero as zero: no offset; those of t alone ignored: the driver ends the segment at
+    them)."""
+    from mechdyn.kernels.layout import IGNORED
     from mechdyn.simulate.compiled_stepping import CompiledSegment
     c = context.c
-    spec = [(w.index, w.direction, w.side) for w in watched]
+    spec = [(w.index, IGNORED if w.timed else w.direction, w.side) for w in watched]
     return CompiledSegment(method, functions, context.modes.p(mode), t0, y0, t_end, rtol,
                            atol, segment, spec, len(c.event_kinds), first_step=h,
-                           switch=switch, autonomous=c.meta.get("autonomous", False))
+                           max_step=context.period_step, switch=switch,
+                           autonomous=c.meta.get("autonomous", False))
 
 
 def _event_watch(c, modes, mode, p, watched):
@@ -129,8 +136,9 @@ def _event_watch(c, modes, mode, p, watched):
                          for w in watched])
     watch = EventWatch(values, [w.direction for w in watched],
                        [w.side != 0 and w.kind != "switch" for w in watched],
-                       interior=2 if mode.groups else 0)
+                       interior=2 if mode.groups else 1)   # the middle: as the kernels
     watch.start_sides = {k: w.side for k, w in enumerate(watched) if w.kind == "switch"}
+    watch.muted[[w.timed for w in watched]] = True     # the driver ends the segment there
     return watch
 
 
