@@ -29,9 +29,11 @@ line names the condition and the time bound instead.
 from __future__ import annotations
 
 import sys
+import threading
 import time
+from contextlib import contextmanager
 
-__all__ = ["ProgressLine"]
+__all__ = ["ProgressLine", "announce"]
 
 
 class ProgressLine:
@@ -85,3 +87,43 @@ class ProgressLine:
     def __exit__(self, *exc):
         self.clear()
         return False
+
+
+@contextmanager
+def announce(what, expected, stream=None, delay=3.0, every=5.0):
+    """Announce a one-time wait on ``stream`` (stderr) once it has lasted ``delay``
+    seconds: what happens, the ``expected`` seconds, and the seconds elapsed every
+    ``every`` seconds (a numba compilation gives no finer progress; it runs in foreign
+    code that releases the GIL, so a thread can count). Short waits print nothing.
+
+    >>> import io
+    >>> stream = io.StringIO()
+    >>> with announce("compiling", 15, stream, delay=0.0, every=0.05):
+    ...     time.sleep(0.12)
+    >>> stream.getvalue().splitlines()[0]
+    'mechdyn: compiling (once, about 15 s; cached on disk) ...'
+    >>> stream.getvalue().splitlines()[-1].startswith("mechdyn: compiling: done in ")
+    True
+    """
+    stream = stream if stream is not None else sys.stderr
+    done, started, shown = threading.Event(), time.monotonic(), []
+
+    def count():
+        if done.wait(delay):
+            return
+        shown.append(True)
+        stream.write(f"mechdyn: {what} (once, about {expected:.0f} s; cached on disk) ...\n")
+        stream.flush()
+        while not done.wait(every):
+            stream.write(f"mechdyn: {what}: {time.monotonic() - started:.0f} s\n")
+            stream.flush()
+    counter = threading.Thread(target=count, daemon=True)
+    counter.start()
+    try:
+        yield
+    finally:
+        done.set()
+        counter.join()
+        if shown:
+            stream.write(f"mechdyn: {what}: done in {time.monotonic() - started:.1f} s\n")
+            stream.flush()

@@ -11,7 +11,10 @@ reaches in the reference (1 for a state that stays zero), the largest over the s
 ``points`` evenly spaced dense-output times ending at the final state (so it is never
 below the final error nor below any single point's error); ``event_errors`` the error of
 each event time (a stop, a stick) divided by the reference's duration. Run times are the
-minimum of repeated runs of the compiled scene (compilation excluded).
+minimum of repeated calls of ``simulate`` as a user makes them (``backend="auto"``, the
+scene's own: the compiled kernels for DOP853 and ``"auto"`` where numba is installed,
+scipy's solvers for the others); the scene's compilation, for scipy and for the kernels,
+happens once before any timing. Each row names the backend its steps took.
 
 >>> import sympy as sp, mechdyn as md
 >>> phi = md.coordinate("phi")
@@ -52,7 +55,8 @@ class Row:
     """One run: ``method`` (as requested; ``used`` the one run, e.g. for ``"auto"``),
     ``rtol``, ``atol``, ``final_error``, ``l2_error``, ``event_errors`` (``(label,
     error)`` pairs), ``time`` (the minimum over ``runs`` runs, s), ``nfev``, ``njev``,
-    ``steps``, and ``failure`` (the error message; empty when the run succeeded)."""
+    ``steps``, ``backend`` (``"compiled"``, ``"scipy"`` or both joined by ``+``: where
+    the steps ran) and ``failure`` (the error message; empty when the run succeeded)."""
     method: str
     rtol: float
     atol: object
@@ -65,6 +69,7 @@ class Row:
     njev: int = 0
     steps: int = 0
     used: str = ""
+    backend: str = ""
     failure: str = ""
 
     @property
@@ -121,12 +126,14 @@ class WorkPrecision:
         lines = [f"Work-precision: {self.mechanism_name} — scene {self.scene.name!r}",
                  f"reference: {ref.description}"]
         lines += [f"  note: {n}" for n in ref.notes]
-        header = (f"{'method':<8} {'rtol':>7} {'atol':>9} {'final err':>9} {'L2 err':>9} "
+        header = (f"{'method':<8} {'backend':<8} {'rtol':>7} {'atol':>9} {'final err':>9} "
+                  f"{'L2 err':>9} "
                   f"{'event err':>9} {'time ms':>9} {'runs':>4} {'nfev':>7} {'njev':>5} "
                   f"{'steps':>6}")
         lines += [header, "-" * len(header)]
         for r in self.rows:
-            start = f"{r.method:<8} {r.rtol:>7.0e} {_atol_text(r.atol):>9}"
+            start = f"{r.method:<8} {r.backend or '-':<8} {r.rtol:>7.0e} " \
+                f"{_atol_text(r.atol):>9}"
             if r.failed:
                 lines.append(f"{start}  FAILED: {r.failure[:90]}")
                 continue
@@ -225,7 +232,11 @@ def work_precision(mech, scene, params, methods=DEFAULT_METHODS, rtols=DEFAULT_R
     >>> table.cheapest(1e-9).method
     'DOP853'
     """
-    mech.compile(scene)     # compile (or load) once, outside the timed runs
+    from mechdyn.simulate.methods import uses_kernels
+    compiled = mech.compile(scene)     # compile (or load) once, outside the timing
+    if uses_kernels(compiled, "auto"):
+        from mechdyn.compile.numba_model import numba_functions
+        numba_functions(compiled, jac=True)          # Rodas5P's, too
     params = ParameterSet(params, mechanism=mech, scene=scene)     # bad values: refused here
     reference = _reference(mech, scene, params, points, reference_rtol, check_rtol)
     rows = [_row(mech, scene, params, method, rtol, repeats, reference, points)
@@ -265,7 +276,8 @@ def _row(mech, scene, params, method, rtol, repeats, reference, points):
 
 def _counts(stats):
     return {"nfev": int(stats.get("nfev", 0)), "njev": int(stats.get("njev", 0)),
-            "steps": int(stats.get("steps", 0)), "used": str(stats.get("method", ""))}
+            "steps": int(stats.get("steps", 0)), "used": str(stats.get("method", "")),
+            "backend": "+".join(stats.get("backends", {}))}
 
 
 def _errors(result, reference, points):
@@ -376,7 +388,7 @@ def _numerical_reference(mech, scene, params, points, reference_rtol, check_rtol
                           _event_times(primary.events), scale, states,
                           (why,) + tuple(failures))
     rtol = reference_rtol if method == "DOP853" else check_rtol
-    description = f"{method} at rtol {rtol:.0e}"
+    description = f"{method} ({'+'.join(primary.stats['backends'])}) at rtol {rtol:.0e}"
     if len(results) == 2:
         final, l2, events = _errors(results["Radau"], reference, points)
         agreement = max([final, l2] + [e for _, e in events])

@@ -1,10 +1,15 @@
 """Parameter sweeps: run one scene over a grid of parameter values on any Executor.
 
-The equations are derived and compiled once, in the calling process; the workers receive
-the mechanism, the scene and the generated code once each (local processes: when they
-start; other executors: with each point, unpickled once per worker), so they neither
-derive nor compile. Any :class:`concurrent.futures.Executor` runs the points: local
-processes by default, a Dask cluster through ``distributed.Client(...).get_executor()``.
+The equations are derived and compiled once, in the calling process (with the compiled
+kernels' form of the scene, which the points then run on: ``backend="auto"``); the
+workers receive the mechanism, the scene and the generated code once each (local
+processes: when they start; other executors: with each point, unpickled once per
+worker), so they neither derive nor compile. Any :class:`concurrent.futures.Executor`
+runs the points. By default (no ``executor``, no ``workers``) the points run in the
+calling process for ``HERE_SECONDS`` first (a compiled point takes well under a
+millisecond, and starting a worker process costs about a second), and local processes,
+one per core, take what is left; a Dask cluster through
+``distributed.Client(...).get_executor()``.
 
 Limits and faults:
 
@@ -36,11 +41,8 @@ import itertools
 import math
 import os
 import pickle
-import signal
-import threading
 import time
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -48,14 +50,16 @@ from mechdyn.version import __version__
 from mechdyn.errors import ParameterError
 from mechdyn.declare.parameters import ParameterSet, to_number
 from mechdyn.analyse.sweep_file import MAX_POINTS, TEXT_COLUMNS, SweepError, SweepFile, SweepFileError
+from mechdyn.analyse.sweep_points import (_Job, _load_kernels, _row, _run_points,
+                                          _start_worker)
 
 __all__ = ["sweep", "Sweep", "SweepError", "SweepFileError", "MAX_POINTS", "IN_FLIGHT"]
 
 
 IN_FLIGHT = 512              # tasks submitted and not yet collected, at most
+HERE_SECONDS = 1.0           # default: points run in the calling process this long first
 BATCH_SECONDS = 0.05         # work per task once the cost of a point is known
 _MAX_BATCH = 64              # points per task, at most
-_PARENT_CHECK = 0.5          # s between a worker's checks that its parent still lives
 
 
 def sweep(mechanism, scene, params, grid, executor=None, out=None, progress=True, *,
@@ -79,7 +83,8 @@ def sweep(mechanism, scene, params, grid, executor=None, out=None, progress=True
     progress : bool
         Show a tqdm progress bar (when tqdm is installed and the output is a terminal).
     workers : int, optional
-        Local worker processes when no ``executor`` is given (default: all cores).
+        Local worker processes when no ``executor`` is given (default: the calling
+        process for the first ``HERE_SECONDS``, then one process per core).
     max_points : int
         Refuse grids with more points (default :data:`MAX_POINTS`).
     fresh : bool
@@ -120,8 +125,12 @@ def sweep(mechanism, scene, params, grid, executor=None, out=None, progress=True
         if todo:
             job = _Job(mechanism, scene, values.numbers, tuple(names), compiled.key,
                        compiled.meta, compiled.source)
-            _run(job, todo, table, executor or workers,
-                 _bar(progress, len(points), len(table.rows)))
+            bar = _bar(progress, len(points), len(table.rows))
+            if executor is None and workers is None:
+                _load_kernels(compiled, scene)    # once, before any point or worker
+                todo = _run_here(job, todo, table, bar, HERE_SECONDS)
+            if todo:
+                _run(job, todo, table, executor or workers, bar)
         rows = [table.rows[point] for point in points]
     default_y = "t_end" if scene.until else next(
         (c for c in columns if c.startswith("peak:")), f"final:{compiled.state_names[-1]}")
@@ -244,82 +253,22 @@ def _record_of(mechanism, scene, compiled, names, fixed) -> dict:
             "fixed": fixed}
 
 
-# ------------------------------------------------------------------ the workers
-@dataclass(frozen=True)
-class _Job:
-    """What every point needs: pickled once per sweep, unpickled once per worker."""
-    mechanism: object
-    scene: object
-    params: dict
-    names: tuple
-    key: str
-    meta: dict
-    source: str
-
-
-_jobs: dict = {}          # per worker process: digest -> _Job
-
-
-def _install(digest, blob):
-    """Unpickle a job once per worker and hand its generated code to compile_scene's
-    memory cache: no derivation, no compilation, no disk in the worker."""
-    job = _jobs.get(digest)
-    if job is None:
-        job = _jobs[digest] = pickle.loads(blob)
-        from mechdyn.compile import compiler as compile_module
-        compile_module._memory_cache.setdefault(
-            job.key, compile_module.CompiledScene(job.meta, job.source, job.key))
-    return job
-
-
-def _start_worker(digest, blob):
-    """A local worker: Ctrl-C is the parent's to handle; end with the parent."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    threading.Thread(target=_end_with_parent, args=(os.getppid(),), daemon=True).start()
-    _install(digest, blob)
-
-
-def _end_with_parent(parent):
-    """Exit as soon as the parent process is gone (killed: we were re-parented)."""
-    while os.getppid() == parent:
-        time.sleep(_PARENT_CHECK)
-    os._exit(1)
-
-
-def _run_points(digest, blob, points):
-    """Simulate a batch of grid points in a worker: their rows, and the time taken."""
-    started = time.perf_counter()
-    job = _install(digest, blob) if blob is not None else _jobs[digest]
-    return [_row(job, point) for point in points], time.perf_counter() - started
-
-
-def _row(job, point) -> dict:
-    """One grid point's row; a failure becomes the row's ``error``."""
-    row = dict(zip(job.names, point))
+def _run_here(job, todo, table, bar, seconds) -> list:
+    """Run points in the calling process for about ``seconds``: the points left (the
+    bar is closed when none are left, or on an interruption)."""
+    started, left = time.perf_counter(), []
     try:
-        result = job.mechanism.simulate(job.scene, {**job.params, **row})
-    except Exception as error:          # recorded in the row; the sweep goes on
-        row["error"] = f"{type(error).__name__}: {error}"
-        return row
-    row.update(t_end=result.t_end, reason=result.reason, error="")
-    for name, values in zip(result.state_names, result.y):
-        row[f"final:{name}"] = float(values[-1])
-    for label, value in _peaks(result, job.meta["output_labels"]).items():
-        row[f"peak:{label}"] = value
-    return row
-
-
-def _peaks(result, labels, points=1001) -> dict:
-    """Each output's value of largest magnitude, found on the step points and
-    ``points`` even times between them (dense output); nothing is evaluated when the
-    scene records no outputs."""
-    if not labels:
-        return {}
-    times = result.t
-    if len(times) > 1:
-        times = np.union1d(np.linspace(times[0], times[-1], points), times)
-    series = result.outputs_at(times)
-    return {label: float(v[np.argmax(np.abs(v))]) for label, v in series.items()}
+        for done, point in enumerate(todo):
+            if time.perf_counter() - started > seconds:
+                left = todo[done:]
+                break
+            table.add(_row(job, point))
+            if bar is not None:
+                bar.update()
+    finally:
+        if bar is not None and not left:
+            bar.close()
+    return left
 
 
 def _run(job, todo, table, executor, bar):

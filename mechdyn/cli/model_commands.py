@@ -229,7 +229,8 @@ def _add_sweep_command(commands):
     _param_argument(sweep)
     where = sweep.add_mutually_exclusive_group()
     where.add_argument("--workers", type=_whole_number, metavar="N",
-                       help="local worker processes (default: all cores)")
+                       help="local worker processes (default: this process for the "
+                       "first second, then one process per core)")
     where.add_argument("--dask", metavar="ADDRESS",
                        help="run on a Dask cluster, e.g. tcp://host:8786 (needs mechdyn[dask])")
     sweep.add_argument("--out", metavar="FILE.csv", help="stream the rows to this file "

@@ -218,7 +218,7 @@ def _add_precision_command(commands):
         description="Simulate a scene with each method at each tolerance, compare with a "
         "reference (the closed form where one exists, else DOP853 at rtol 1e-13 checked by "
         "Radau) and print final-state, L2 and event-time errors, run time and solver cost.",
-        epilog="example:\n  mechdyn precision models/shoe_brake.py --scene braking "
+        epilog="example:\n  mechdyn precision models/slider_crank.py --scene startup "
         "--plot wp.png --target 1e-6", formatter_class=argparse.RawDescriptionHelpFormatter)
     _model_argument(precision)
     _scene_argument(precision)

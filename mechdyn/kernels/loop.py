@@ -4,7 +4,8 @@ Compiled once, with an explicit signature, releasing the GIL (threads can run ke
 in parallel), and cached on disk (``NUMBA_CACHE_DIR`` or ``__pycache__``). numba keys its
 cache on this file only, so the loop is built in a closure over a fingerprint of the
 sources it is compiled from (``COMPILED_MODULES``): editing any of them recompiles it
-instead of loading stale machine code.
+instead of loading stale machine code. The one compilation (about 15 s, after installing
+or editing a kernel module) is announced on stderr with the seconds elapsed.
 """
 import hashlib
 import math
@@ -13,6 +14,7 @@ from pathlib import Path
 import numpy as np
 from numba import njit, types
 
+from ..progress import announce
 from . import dop853, rodas
 from .events import locate
 from .functions import as_jac, as_rhs
@@ -305,4 +307,5 @@ def _fingerprint():
     return digest.hexdigest()
 
 
-integrate = _compile(_fingerprint())
+with announce("compiling the integration kernels", 15):
+    integrate = _compile(_fingerprint())      # loaded from numba's disk cache when there

@@ -197,7 +197,8 @@ def _precision(mechanism, scene, params) -> str:
     table = work_precision(mechanism, scene, params, repeats=1)
     rows = []
     for r in table.rows:
-        head = f"<td>{_e(r.method)}</td><td class='num'>{r.rtol:.0e}</td>"
+        head = (f"<td>{_e(r.method)}</td><td>{_e(r.backend)}</td>"
+                f"<td class='num'>{r.rtol:.0e}</td>")
         if r.failed:
             rows.append(f"<tr>{head}<td colspan='6' class='failed'>{_e(r.failure)}</td></tr>")
             continue
@@ -209,7 +210,8 @@ def _precision(mechanism, scene, params) -> str:
                     + "</tr>")
     return (f"<p>Reference: {_e(table.reference.description)}. Errors are relative to each "
             "state's largest magnitude; event errors relative to the run's duration; times "
-            "exclude compilation.</p><table><tr><th>method</th><th>rtol</th><th>final "
+            "exclude compilation.</p><table><tr><th>method</th><th>backend</th><th>rtol</th>"
+            "<th>final "
             "error</th><th>L2 error</th><th>event error</th><th>time [ms]</th><th>RHS "
             "calls</th><th>steps</th></tr>" + "".join(rows) + "</table>"
             + figure_html(table.plot(), "work-precision diagram"))

@@ -4,12 +4,14 @@ A segment is integrated with one friction mode, one set of locked branches, one 
 and one backend; it ends at an event (a stop condition, a friction element sticking,
 releasing or engaging, a stop's limit reached: an impact, :mod:`mechdyn.simulate.contacts`; a
 switch of a ``Piecewise``), when its method no longer fits the problem (stiffness
-measured both ways), when its method fails, or when ``backend="auto"`` moves a run that
-proves long from scipy to the compiled kernels. The driver then decides what comes next:
-the new friction mode (:mod:`mechdyn.simulate.friction`), the method (:mod:`mechdyn.simulate.methods`: the
+measured both ways), or when its method fails. A segment's backend follows from the
+scene, the installation and the segment's kind only
+(:class:`~mechdyn.simulate.methods.BackendPlan`), never from elapsed time or from what
+ran before. The driver then decides what comes next: the new friction mode
+(:mod:`mechdyn.simulate.friction`), the method (:mod:`mechdyn.simulate.methods`: the
 stiffness is measured again at every segment start), or another method from the last
-accepted state after a failure. ``stats["switches"]`` records every change of method or
-backend (time, from, to, why).
+accepted state after a failure. ``stats["switches"]`` records every change of method
+(time, from, to, why).
 
 Budgets bound the work: a run that exceeds its steps or its wall time stops with a
 :class:`~mechdyn.errors.SimulationError` naming the scene, the time reached, the step size
@@ -32,6 +34,7 @@ from mechdyn.simulate.methods import (StiffnessMonitor, backend_plan, explicit_f
 from mechdyn.simulate.result import Result
 from mechdyn.simulate.run_checks import Budget, check_finite, check_mass, check_scales, diagnosis, state_text
 from mechdyn.simulate.segments import compiled_runner, scipy_runner, watched_events
+from mechdyn.simulate.threads import single_threaded_blas
 from mechdyn.simulate.time_events import time_events
 from mechdyn.simulate.trajectory import Segment, Trajectory
 
@@ -42,7 +45,6 @@ _SAME_INSTANT = 1e-12        # relative time under which events count as simulta
 _EVENT_LOOP_LIMIT = 200      # events at one instant before the run is called stuck
 _COLLAPSE = 1e-12            # a step shorter than this fraction of the run has collapsed
 _PROGRESS = 1e-6             # a segment this much of the rest long clears past failures
-_LONG_RUN = (0.3, 0.6)       # scipy seconds spent, seconds still expected: go compiled
 _EDGE = 1e-9                 # a domain argument this far down from its start: the edge
 _NEAR_EDGE = 1e-6            # ... and where a failing method stopped: the cause
 _SETTLE_STEPS = 200          # a method switch after fewer steps ...
@@ -75,6 +77,12 @@ class Driver:
 
     # ------------------------------------------------------------------ the run
     def run(self, y0) -> Result:
+        """Integrate from ``y0`` to the scene's end (BLAS single-threaded meanwhile:
+        :mod:`mechdyn.simulate.threads`)."""
+        with single_threaded_blas():
+            return self._run(y0)
+
+    def _run(self, y0) -> Result:
         t, t_end = self.scene.t_start, self.scene.time_limit
         y = np.array(y0, dtype=float)
         self.started = self.last_report = time.perf_counter()
@@ -104,9 +112,6 @@ class Driver:
                 if outcome.status == "drift":          # closed loops: back onto them
                     y = self.modes.project(t, y, mode)
                     self.stats["projections"] = self.stats.get("projections", 0) + 1
-                elif outcome.status == "backend":      # a long run: compiled from here
-                    method = self._switch(t, method, self.plan.method(method, mode),
-                                          "the run is long: the compiled kernels from here")
                 elif outcome.status == "stiff":
                     method = self._after_stiffness(t, method, mode)
                     # a switch after a short segment: the next one keeps its method
@@ -174,8 +179,9 @@ class Driver:
         hold = _HOLD_STEPS if getattr(self, "_settle", False) else 0
         self._settle = False
         if backend == "compiled":
-            run = compiled_runner(self, self.plan.functions, mode, method, t0, y0, t_stop, h,
-                                  watched, rtol, atol, segment, switch=self.auto)
+            run = compiled_runner(self, self.plan.functions_for(method), mode, method, t0,
+                                  y0, t_stop, h, watched, rtol, atol, segment,
+                                  switch=self.auto)
         else:
             monitor = None
             if self.auto and not mode.groups:
@@ -196,9 +202,6 @@ class Driver:
             self._report(outcome.t, t_end)
             self._segment_steps = run.counts["steps"]
             if outcome.status == "chunk":
-                if self._long(backend, outcome.t, t_end, method, mode):
-                    outcome.status = "backend"
-                    return outcome, run.h
                 continue
             if outcome.status != "failed":
                 check_finite(self.c, outcome.t, outcome.y)
@@ -214,19 +217,6 @@ class Driver:
         for table, name in ((self.stats["methods"], method), (self.stats["backends"], backend)):
             table[name] = table.get(name, 0) + steps
         return dict(counts)
-
-    def _long(self, backend, t, t_end, method, mode) -> bool:
-        """Whether a scipy run has proved long enough that the compiled kernels pay for
-        their loading (``backend="auto"``)."""
-        if backend != "scipy" or not self.plan.can_switch(method, mode):
-            return False
-        spent = time.perf_counter() - self.started
-        if spent < _LONG_RUN[0] or t <= self.scene.t_start:
-            return False
-        remaining = spent * (t_end - t) / (t - self.scene.t_start)
-        if remaining < _LONG_RUN[1] or not self.plan.load():
-            return False
-        return True
 
     # ---------------------------------------------------------------- events
     def _after_event(self, t, y, mode, fired, muted):

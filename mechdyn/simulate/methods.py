@@ -27,7 +27,8 @@ import numpy as np
 
 __all__ = ["choose_method", "explicit_for", "stiff_for", "STIFF", "StiffnessMonitor",
            "fallbacks", "STABILITY_LIMIT", "STIFF_RTOL_FLOOR", "segment_tolerances",
-           "motion_jacobian", "backend_plan", "BackendPlan", "BACKENDS", "KERNEL_ONLY"]
+           "motion_jacobian", "backend_plan", "BackendPlan", "BACKENDS", "KERNEL_ONLY",
+           "uses_kernels", "scene_compilable"]
 
 STIFF = "Radau"
 STIFF_RTOL_FLOOR = 1e-8
@@ -148,6 +149,24 @@ def fallbacks(method, rtol, compiled=False) -> list:
     return [m for m in ladder if m != method]
 
 
+def scene_compilable(compiled) -> bool:
+    """Whether a scene's smooth segments can run on the kernels at all: not with closed
+    loops, stop limits (impacts) or lossy gears, whose segments always run on scipy."""
+    meta = compiled.meta
+    return not (compiled.constraints or meta.get("contacts") or meta.get("gears"))
+
+
+def uses_kernels(compiled, method) -> bool:
+    """Whether ``backend="auto"`` puts a scene with ``method`` on the compiled kernels:
+    numba is importable, the scene has a compiled form and the method runs there (the
+    rule of :class:`BackendPlan`; the first call may compile the scene, about 0.5 s,
+    cached in memory and on disk)."""
+    if method not in ("auto", *_KERNEL) or not scene_compilable(compiled):
+        return False
+    from mechdyn.compile.numba_model import numba_functions
+    return numba_functions(compiled) is not None
+
+
 def backend_plan(compiled, method, backend) -> "BackendPlan":
     """The :class:`BackendPlan` of a run; names the culprit of a backend that cannot
     serve the scene."""
@@ -167,21 +186,28 @@ def backend_plan(compiled, method, backend) -> "BackendPlan":
 class BackendPlan:
     """Where a run's segments integrate: scipy's solvers or the compiled kernels.
 
-    ``backend="scipy"`` never compiles; ``"compiled"`` compiles (or loads) the scene at
-    once; ``"auto"`` starts on scipy unless the compiled form is in memory already, and
-    moves to the kernels when a run proves long (the driver measures it) or when a stiff
-    segment must meet a tolerance below ``STIFF_RTOL_FLOOR`` (the kernels' Rodas5P has no
-    floor). Segments with stuck friction elements, closed loops, stop limits (impacts
-    are jumps of the state) or lossy gears (their loss is decided per step) run on scipy.
+    One rule, from the scene and the installation only (never from what ran before in
+    the process, nor from elapsed time), so the same call gives the same answer:
+
+    - ``backend="scipy"`` never compiles;
+    - ``"compiled"`` compiles (or loads) the scene at once and refuses a scene without
+      a compiled form;
+    - ``"auto"`` (the default) uses the compiled kernels whenever numba is importable,
+      the scene has a compiled form (:func:`~mechdyn.compile.numba_model.numba_functions`)
+      and its method may run on them (``"auto"``, DOP853 or Rodas5P: :func:`uses_kernels`);
+      otherwise scipy.
+
+    Either way, segments without a compiled form run on scipy, decided by the segment's
+    kind: stuck friction elements, closed loops, stop limits (impacts are jumps of the
+    state) and lossy gears (their loss is decided per step).
     """
 
     def __init__(self, compiled, method, option):
-        from mechdyn.compile.numba_model import is_loaded, numba_functions
         self.c, self.named, self.option = compiled, method, option
         self.functions = None
         self.why = ""
-        if option == "auto" and is_loaded(compiled):
-            self.functions = numba_functions(compiled)
+        if option == "auto" and uses_kernels(compiled, method):
+            self.load()
 
     @property
     def active(self) -> bool:
@@ -197,9 +223,7 @@ class BackendPlan:
         return self.functions is not None
 
     def compilable(self, mode) -> bool:
-        meta = self.c.meta
-        return not (mode.groups or self.c.constraints or meta.get("contacts")
-                    or meta.get("gears"))
+        return not mode.groups and scene_compilable(self.c)
 
     def method(self, name, mode) -> str:
         """The method a segment runs for a requested one: the kernels' own where they
@@ -212,15 +236,17 @@ class BackendPlan:
             return STIFF
         return name
 
+    def functions_for(self, method):
+        """The compiled functions a segment of ``method`` steps: Rodas5P's with the
+        analytic Jacobian (compiled when first needed), DOP853's without."""
+        if method != "Rodas5P":
+            return self.functions
+        from mechdyn.compile.numba_model import numba_functions
+        return numba_functions(self.c, jac=True)
+
     def backend(self, method, mode) -> str:
         return "compiled" if (self.active and method in _KERNEL and self.compilable(mode)) \
             else "scipy"
-
-    def can_switch(self, method, mode) -> bool:
-        """Whether ``"auto"`` may still move this segment to the kernels."""
-        return self.option == "auto" and not self.active and method in ("DOP853", "RK45",
-                                                                          STIFF) \
-            and self.compilable(mode)
 
     def stiff(self, method) -> bool:
         return method in (STIFF, "BDF", "LSODA", "Rodas5P")
@@ -231,7 +257,4 @@ class BackendPlan:
             self.why = "named in the scene"
             return self.method(self.named, mode)
         name, self.why = choose_method(self.c, p, y, t, scene.time_limit, scene.rtol)
-        if name == STIFF and scene.rtol < STIFF_RTOL_FLOOR and self.option == "auto" \
-                and self.compilable(mode) and not self.active:
-            self.load()                       # Rodas5P meets the tolerance, Radau cannot
         return self.method(name, mode)
