@@ -35,27 +35,36 @@ SIGNATURE = types.UniTuple(types.int64, 2)(
 ERROR_EXPONENT = (1.0 / 8.0, 1.0 / 5.0)   # 1 / (order of the error estimate + 1)
 
 
+@njit(inline="always")
+def _scaled_rms(v, w, y, atol, rtol):
+    """RMS of (v - w) / (atol + rtol |y|), its squares taken relative to the largest term:
+    no overflow where accelerations are 1e150 (an inertia of 1e-150 kg m^2)."""
+    n = y.shape[0]
+    largest = 0.0
+    for i in range(n):
+        largest = max(largest, abs((v[i] - w[i]) / (atol[i] + abs(y[i]) * rtol)))
+    if largest == 0.0 or not math.isfinite(largest):
+        return largest
+    total = 0.0
+    for i in range(n):
+        total += ((v[i] - w[i]) / (atol[i] + abs(y[i]) * rtol) / largest) ** 2
+    return largest * math.sqrt(total / n)
+
+
 @njit
 def initial_step(rhs, t, y, f0, p, rtol, atol, t_bound, max_step, exponent, y1, f1):
     """Hairer's / scipy's starting step (one RHS evaluation)."""
-    n = y.shape[0]
-    d0 = 0.0
-    d1 = 0.0
-    for i in range(n):
-        scale = atol[i] + abs(y[i]) * rtol
-        d0 += (y[i] / scale) ** 2
-        d1 += (f0[i] / scale) ** 2
-    d0 = math.sqrt(d0 / n)
-    d1 = math.sqrt(d1 / n)
+    y1[:] = 0.0
+    d0 = _scaled_rms(y, y1, y, atol, rtol)
+    d1 = _scaled_rms(f0, y1, y, atol, rtol)
     h0 = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
     h0 = min(h0, t_bound - t)
-    for i in range(n):
+    if not h0 > 0.0:
+        return min(t_bound - t, max_step)
+    for i in range(y.shape[0]):
         y1[i] = y[i] + h0 * f0[i]
     rhs(t + h0, y1, p, f1)
-    d2 = 0.0
-    for i in range(n):
-        d2 += ((f1[i] - f0[i]) / (atol[i] + abs(y[i]) * rtol)) ** 2
-    d2 = math.sqrt(d2 / n) / h0
+    d2 = _scaled_rms(f1, f0, y, atol, rtol) / h0
     if not math.isfinite(d2) or (d1 <= 1e-15 and d2 <= 1e-15):
         h1 = max(1e-6, h0 * 1e-3)
     else:
