@@ -22,17 +22,24 @@ import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, Radau
-
-from mechdyn.simulate.error_control import guarded
 
 __all__ = ["METHODS", "WITH_JACOBIAN", "EXPLICIT", "ScipySegment", "Outcome",
            "step_polynomial"]
 
-METHODS = {"RK45": RK45, "RK23": RK23, "DOP853": DOP853, "Radau": Radau, "BDF": BDF,
-           "LSODA": LSODA}
+METHODS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")    # scipy's solver classes
 WITH_JACOBIAN = {"Radau", "BDF", "LSODA"}
 EXPLICIT = {"RK45", "RK23", "DOP853"}
+
+
+def _solver_class(method):
+    """scipy's solver class of ``method``; explicit ones with mechdyn's error control.
+    Imported here, not at the top: a run on the compiled kernels needs no scipy.integrate
+    (a third of a second of a fresh process)."""
+    if method in EXPLICIT:
+        from mechdyn.simulate.error_control import guarded
+        return guarded(method)
+    import scipy.integrate
+    return getattr(scipy.integrate, method)
 
 
 @dataclass
@@ -69,9 +76,9 @@ class ScipySegment:
                  monitor=None, first_step=None, max_step=np.inf, min_step=0.0, drift=None,
                  revolving=()):
         options = {"rtol": rtol, "atol": atol, "max_step": max_step}
-        solver_class = METHODS[method]
+        solver_class = _solver_class(method)     # scipy.integrate: imported when used
         if method in EXPLICIT:
-            solver_class, options["revolving"] = guarded(method), revolving
+            options["revolving"] = revolving
         if first_step:
             options["first_step"] = min(first_step, abs(t_bound - t0))
         if jac is not None and method in WITH_JACOBIAN:
