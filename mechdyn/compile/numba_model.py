@@ -138,9 +138,16 @@ def _load(key, text):
 
 
 def _load_cached(directory, key, text):
-    """The module from the trusted numba folder, compiled into it if needed."""
+    """The module from the trusted numba folder, compiled into it if needed; one process
+    at a time per scene (a sweep's workers load the same scene at once: without the lock
+    one would wipe the folder another is importing from)."""
+    from filelock import FileLock
     (directory / "numba").mkdir(mode=0o700, exist_ok=True)
-    folder = directory / "numba" / key
+    with FileLock(str(directory / "numba" / f"{key}.lock")):
+        return _load_locked(directory / "numba" / key, key, text)
+
+
+def _load_locked(folder, key, text):
     manifest = cache.load(f"numba-{key}.json")
     trusted = manifest is not None and manifest.get("module") == _digest(text.encode()) \
         and _matches(folder, manifest.get("files", {}))
