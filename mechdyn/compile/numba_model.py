@@ -130,6 +130,7 @@ def _load(key, text):
     except OSError:             # a full or size-limited disk: compiled in memory instead
         shutil.rmtree(directory / "numba" / key, ignore_errors=True)
         with suppress(OSError):
+            (directory / "numba" / f"{key}.lock").unlink()
             (directory / "numba").rmdir()                  # if nothing else is in it
         namespace = {"__name__": f"mechdyn_model_{key}"}
         exec(compile(text.replace("cache=True", "cache=False"), f"<mechdyn model {key}>",
