@@ -32,7 +32,7 @@ from pathlib import Path
 
 from mechdyn import cache
 
-__all__ = ["available", "numba_functions"]
+__all__ = ["available", "numba_functions", "mode_functions"]
 
 _PYTHON_HELPERS = ("spd_solve", "jac_assemble", "numeric_jacobian", "loop_solve",
                    "numeric_minors")
@@ -60,8 +60,31 @@ def numba_functions(compiled):
     if available():
         sources = _split(compiled.source)
         if not any(_uses_helpers(sources[name]) for name in ("rhs", "events")):
-            functions = _load(compiled.key, sources)
+            functions = _load(compiled.key, _module_text(sources))
     _loaded[compiled.key] = functions
+    return functions
+
+
+def mode_functions(compiled):
+    """The kernels' :class:`~mechdyn.kernels.ModelFunctions` of a scene's friction modes
+    (``mode_rhs``, ``mode_events``: :mod:`mechdyn.compile.mode_code`), compiled like
+    :func:`numba_functions`; None where the scene has none (lossy gears, Python helpers
+    in its ``terms`` or ``events``) or numba is missing."""
+    key = compiled.key + "-modes"
+    if key in _loaded:
+        return _loaded[key]
+    functions = None
+    if available() and not compiled.meta.get("gears"):
+        sources = _split(compiled.source)
+        if not any(_uses_helpers(sources[name]) for name in ("terms", "events")):
+            from mechdyn.compile.mode_code import mode_source
+            n_params = len(compiled.param_names) + len(compiled.frictions) + compiled.flags
+            text = _HEADER + "\n\n" + sources["terms"] + "\n\n" + sources["events"] + \
+                '\nterms = njit(_RHS, cache=True, error_model="numpy")(terms)\n' + \
+                'events = njit(_RHS, cache=True, error_model="numpy")(events)\n' + \
+                mode_source(compiled.meta, n_params)
+            functions = _load(key, text, ("mode_rhs", None, "mode_events"))
+    _loaded[key] = functions
     return functions
 
 
@@ -93,16 +116,13 @@ def _module_text(sources) -> str:
     return _HEADER + "\n\n" + "\n\n".join(body) + "\n\n" + "\n".join(decorations) + "\n"
 
 
-def _load(key, sources):
-    from mechdyn.kernels import model_functions
-    text = _module_text(sources)
+def _load(key, text, names=("rhs", "jac", "events")):
     directory = cache.cache_dir()
     if directory is None:
         folder = Path(tempfile.mkdtemp(prefix="mechdyn-numba-"))
-        module = _import(folder, key, text)
-        return model_functions(module.rhs, module.jac, module.events)
+        return _functions(vars(_import(folder, key, text)), names)
     try:
-        return _load_cached(directory, key, text)
+        return _functions(vars(_load_cached(directory, key, text)), names)
     except OSError:             # a full or size-limited disk: compiled in memory instead
         shutil.rmtree(directory / "numba" / key, ignore_errors=True)
         with suppress(OSError):
@@ -110,12 +130,17 @@ def _load(key, sources):
         namespace = {"__name__": f"mechdyn_model_{key}"}
         exec(compile(text.replace("cache=True", "cache=False"), f"<mechdyn model {key}>",
                      "exec"), namespace)
-        return model_functions(namespace["rhs"], namespace["jac"], namespace["events"])
+        return _functions(namespace, names)
+
+
+def _functions(namespace, names):
+    """The kernels' functions ``(rhs, jac, events)`` of a compiled module, by name."""
+    from mechdyn.kernels import model_functions
+    return model_functions(*[namespace[name] if name else None for name in names])
 
 
 def _load_cached(directory, key, text):
-    """The scene's functions from the trusted numba folder, compiled into it if needed."""
-    from mechdyn.kernels import model_functions
+    """The module from the trusted numba folder, compiled into it if needed."""
     (directory / "numba").mkdir(mode=0o700, exist_ok=True)
     folder = directory / "numba" / key
     manifest = cache.load(f"numba-{key}.json")
@@ -127,7 +152,7 @@ def _load_cached(directory, key, text):
     if not trusted:           # numba has written its cache files: record them all
         cache.store(f"numba-{key}.json", {"module": _digest(text.encode()),
                                           "files": _hashes(folder)})
-    return model_functions(module.rhs, module.jac, module.events)
+    return module
 
 
 def _import(folder, key, text):

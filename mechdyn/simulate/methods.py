@@ -28,7 +28,7 @@ import numpy as np
 __all__ = ["choose_method", "explicit_for", "stiff_for", "STIFF", "StiffnessMonitor",
            "fallbacks", "STABILITY_LIMIT", "STIFF_RTOL_FLOOR", "segment_tolerances",
            "motion_jacobian", "backend_plan", "BackendPlan", "BACKENDS", "KERNEL_ONLY",
-           "uses_kernels", "scene_compilable"]
+           "uses_kernels", "scene_compilable", "needs_modes"]
 
 STIFF = "Radau"
 STIFF_RTOL_FLOOR = 1e-8
@@ -150,10 +150,16 @@ def fallbacks(method, rtol, compiled=False) -> list:
 
 
 def scene_compilable(compiled) -> bool:
-    """Whether a scene's smooth segments can run on the kernels at all: not with closed
-    loops, stop limits (impacts) or lossy gears, whose segments always run on scipy."""
-    meta = compiled.meta
-    return not (compiled.constraints or meta.get("contacts") or meta.get("gears"))
+    """Whether a scene's segments can run on the kernels at all: not with closed loops
+    or lossy gears, whose segments always run on scipy."""
+    return not (compiled.constraints or compiled.meta.get("gears"))
+
+
+def needs_modes(compiled, mode) -> bool:
+    """Whether a segment runs on the scene's mode functions
+    (:mod:`mechdyn.compile.mode_code`) rather than its plain ``rhs``: stuck elements or
+    stop limits (whose gaps are watched from an offset)."""
+    return bool(mode.groups or compiled.meta.get("contacts"))
 
 
 def uses_kernels(compiled, method) -> bool:
@@ -198,13 +204,15 @@ class BackendPlan:
       otherwise scipy.
 
     Either way, segments without a compiled form run on scipy, decided by the segment's
-    kind: stuck friction elements, closed loops, stop limits (impacts are jumps of the
-    state) and lossy gears (their loss is decided per step).
+    kind: closed loops and lossy gears (their loss is decided per step). Segments with
+    stuck elements or stop limits run on the scene's mode functions (compiled when the
+    first such segment starts; the mode decisions and impacts stay in Python).
     """
 
     def __init__(self, compiled, method, option):
         self.c, self.named, self.option = compiled, method, option
         self.functions = None
+        self._modes = False            # the mode functions: not yet loaded
         self.why = ""
         if option == "auto" and uses_kernels(compiled, method):
             self.load()
@@ -222,8 +230,21 @@ class BackendPlan:
             self.functions = numba_functions(self.c)
         return self.functions is not None
 
+    def mode_functions(self):
+        """The scene's mode functions (None: it has none)."""
+        if self._modes is False:
+            from mechdyn.compile.numba_model import mode_functions
+            self._modes = mode_functions(self.c)
+        return self._modes
+
+    def functions_for(self, mode):
+        """The compiled functions a segment with ``mode`` runs on."""
+        return self.mode_functions() if needs_modes(self.c, mode) else self.functions
+
     def compilable(self, mode) -> bool:
-        return not mode.groups and scene_compilable(self.c)
+        if not scene_compilable(self.c):
+            return False
+        return not needs_modes(self.c, mode) or self.mode_functions() is not None
 
     def method(self, name, mode) -> str:
         """The method a segment runs for a requested one: the kernels' own where they

@@ -100,14 +100,28 @@ def scipy_runner(context, mode, method, t0, y0, t_end, h, watched, rtol, atol, m
 
 def compiled_runner(context, functions, mode, method, t0, y0, t_end, h, watched, rtol,
                     atol, segment, switch):
-    """A :class:`CompiledSegment` (every watched event an entry of ``events``, counting
-    zero as zero: no offset)."""
+    """A :class:`CompiledSegment`. On the plain functions every watched event is an
+    entry of ``events``; on the mode functions (:mod:`mechdyn.compile.mode_code`:
+    stuck elements, stop limits) the mode's numbers follow the parameters, the gaps are
+    watched from their offsets and each stuck group's holding margin follows the
+    entries of ``events``."""
+    from mechdyn.compile.mode_code import mode_vector
     from mechdyn.simulate.compiled_stepping import CompiledSegment
-    c = context.c
-    spec = [(w.index, w.direction, w.side) for w in watched]
-    return CompiledSegment(method, functions, context.modes.p(mode), t0, y0, t_end, rtol,
-                           atol, segment, spec, len(c.event_kinds), first_step=h,
-                           switch=switch, autonomous=c.meta.get("autonomous", False))
+    from mechdyn.simulate.methods import needs_modes
+    c, modes = context.c, context.modes
+    p, size = modes.p(mode), len(c.event_kinds)
+    max_step = np.inf
+    if needs_modes(c, mode):
+        offsets = {w.element: w.offset for w in watched if w.kind == "gap"}
+        p = p + mode_vector(mode, modes.kinds, modes.frozen, modes.contacts, offsets)
+        size += len(mode.groups)
+        max_step = context.max_step if mode.groups else np.inf
+    spec = [(size - len(mode.groups) + w.index if w.kind == "release" else w.index,
+             w.direction, w.side) for w in watched]
+    return CompiledSegment(method, functions, p, t0, y0, t_end, rtol, atol, segment, spec,
+                           size, first_step=h, max_step=max_step,
+                           switch=switch and not mode.groups,
+                           autonomous=c.meta.get("autonomous", False))
 
 
 def _event_watch(c, modes, mode, p, watched):
