@@ -1,5 +1,6 @@
 """Source of a scene's *mode functions*: the right-hand side and events of segments with
-stuck friction elements, stops in contact and open stop limits, for the compiled kernels.
+stuck friction elements, stops in contact, open stop limits or closed loops, for the
+compiled kernels.
 
 A friction mode is data, not code: which groups of elements are stuck (their leaders'
 gradients become rows of the constrained equations), which coordinates they hold, the
@@ -89,7 +90,7 @@ def _constrained(t, y, p, buf, x):
 
 @njit(_RHS, cache=True, error_model="numpy")
 def mode_rhs(t, y, p, out):
-    buf = _np.empty(_T)
+{plain_call}    buf = _np.empty(_T)
     x = _np.empty(_N + _L + int(p[_NP]))
     ok = _constrained(t, y, p, buf, x)
     for i in range(_N):
@@ -137,13 +138,31 @@ def mode_events(t, y, p, out):
             out[_E + g] = margin if ok else _np.nan
     for j in range(_GAPS.shape[0]):
         out[_GAPS[j]] -= p[at + j]
-'''
+{loop_events}'''
+
+_PLAIN_CALL = """    if p[_NP] == 0.0:
+        rhs(t, y, p, out)
+        return
+"""
+_LOOP_EVENTS = """    at += _GAPS.shape[0]
+    minors = _np.empty({minors})
+    loop_minors(t, y, p, minors)
+    out[_E + m] = minors[int(p[at])]
+    drifts = _np.empty(2)
+    drift(t, y, p, drifts)
+    out[_E + m + 1] = p[at + 1] - drifts[0]
+    out[_E + m + 2] = p[at + 2] - drifts[1]
+"""
 
 
-def mode_source(meta, n_params) -> str:
-    """The module text (after the scene's ``terms`` and ``events``) of ``mode_rhs`` and
+def mode_source(meta, n_params, plain=False, minors=0) -> str:
+    """The module text (after the scene's ``terms`` and ``events``; with ``plain`` its
+    ``rhs``, which ``mode_rhs`` calls when nothing is stuck; with closed loops its
+    ``drift`` and ``loop_minors``, ``minors`` of them) of ``mode_rhs`` and
     ``mode_events`` for a scene with metadata ``meta`` and ``n_params`` entries of
-    ``p`` (values, friction signs, branch flags)."""
+    ``p`` (values, friction signs, branch flags). With closed loops ``mode_events``
+    ends with the watched minor of the loops and the room left to the drifts of their
+    positions and speeds (:class:`mechdyn.simulate.loop_watch.LoopWatch`)."""
     offsets = {name: offset for name, offset, _ in meta["terms"]}
     n_terms = sum(_size(shape) for _, _, shape in meta["terms"])
     gaps = [i for i, (kind, _) in enumerate(meta["events"]) if kind == "gap"]
@@ -156,16 +175,18 @@ def mode_source(meta, n_params) -> str:
         fp=offsets["friction_peak"], frel=offsets["friction_release"],
         cg=offsets["contact_gradient"], cb=offsets["contact_bias"],
         lg=offsets["constraint_gradient"], lb=offsets["constraint_bias"],
-        gaps=gaps or "[0][:0]")
+        gaps=gaps or "[0][:0]", plain_call=_PLAIN_CALL if plain else "",
+        loop_events=_LOOP_EVENTS.format(minors=minors) if meta.get("constraints") else "")
 
 
-def mode_vector(mode, kinds, frozen, contacts, gap_offsets=None) -> list:
+def mode_vector(mode, kinds, frozen, contacts, gap_offsets=None, loops=()) -> list:
     """The numbers of ``mode`` that ``mode_rhs`` and ``mode_events`` read after the
     parameter vector: the number of stuck groups and their leaders, the held
     coordinates, each group's members ``(element, kind code, alpha)``, the offset of
-    every stop limit's gap (``gap_offsets``: by limit, 0 where not given). ``kinds``:
-    the kind of every element (frictions, then the stops' limits); ``frozen``: the
-    coordinate each element holds (-1: none)."""
+    every stop limit's gap (``gap_offsets``: by limit, 0 where not given), and with
+    closed loops ``loops``: the watched minor and the drifts allowed to the loops'
+    positions and speeds. ``kinds``: the kind of every element (frictions, then the
+    stops' limits); ``frozen``: the coordinate each element holds (-1: none)."""
     held = [frozen[k] for k in mode.stuck if frozen[k] >= 0]
     out = [float(len(mode.groups))] + [float(g[0][0]) for g in mode.groups]
     out += [float(len(held))] + [float(i) for i in held]
@@ -174,7 +195,8 @@ def mode_vector(mode, kinds, frozen, contacts, gap_offsets=None) -> list:
         for element, alpha in group:
             out += [float(element), KIND_CODES[kinds[element]], float(alpha)]
     offsets = gap_offsets or {}
-    return out + [float(offsets.get(j, 0.0)) for j in range(contacts)]
+    out += [float(offsets.get(j, 0.0)) for j in range(contacts)]
+    return out + [float(v) for v in loops]
 
 
 def _size(shape) -> int:

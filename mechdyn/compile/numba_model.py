@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import hashlib
 import importlib.util
+import math
 import shutil
 import sys
 import tempfile
@@ -60,30 +61,45 @@ def numba_functions(compiled):
     if available():
         sources = _split(compiled.source)
         if not any(_uses_helpers(sources[name]) for name in ("rhs", "events")):
-            functions = _load(compiled.key, _module_text(sources))
+            functions = _functions(_load(compiled.key, _module_text(sources)),
+                                   ("rhs", "jac", "events"))
     _loaded[compiled.key] = functions
     return functions
 
 
 def mode_functions(compiled):
-    """The kernels' :class:`~mechdyn.kernels.ModelFunctions` of a scene's friction modes
+    """The kernels' functions of a scene's friction modes, stop limits and closed loops
     (``mode_rhs``, ``mode_events``: :mod:`mechdyn.compile.mode_code`), compiled like
-    :func:`numba_functions`; None where the scene has none (lossy gears, Python helpers
-    in its ``terms`` or ``events``) or numba is missing."""
+    :func:`numba_functions`, as a pair of :class:`~mechdyn.kernels.ModelFunctions`:
+    with the analytic Jacobian (where it is scalar code) for segments where nothing is
+    stuck, without it for the others; None where the scene has none (lossy gears,
+    Python helpers in its ``terms``, ``events`` or loop functions) or numba is
+    missing."""
     key = compiled.key + "-modes"
     if key in _loaded:
         return _loaded[key]
     functions = None
     if available() and not compiled.meta.get("gears"):
         sources = _split(compiled.source)
-        if not any(_uses_helpers(sources[name]) for name in ("terms", "events")):
+        needed = ["terms", "events"] + (["drift", "loop_minors"] if compiled.constraints
+                                        else [])
+        if not any(_uses_helpers(sources[name]) for name in needed):
             from mechdyn.compile.mode_code import mode_source
             n_params = len(compiled.param_names) + len(compiled.frictions) + compiled.flags
-            text = _HEADER + "\n\n" + sources["terms"] + "\n\n" + sources["events"] + \
-                '\nterms = njit(_RHS, cache=True, error_model="numpy")(terms)\n' + \
-                'events = njit(_RHS, cache=True, error_model="numpy")(events)\n' + \
-                mode_source(compiled.meta, n_params)
-            functions = _load(key, text, ("mode_rhs", None, "mode_events"))
+            plain = not _uses_helpers(sources["rhs"])
+            names = needed + (["rhs"] if plain else [])
+            jac = plain and not _uses_helpers(sources["jac"])
+            minors = math.comb(compiled.dof, len(compiled.constraints))
+            text = _HEADER + "\n\n" + "\n\n".join(
+                sources[name] for name in names + (["jac"] if jac else [])) + "\n" + \
+                "".join(f'{name} = njit(_RHS, cache=True, error_model="numpy")({name})\n'
+                        for name in names) + \
+                ('jac = njit(_JAC, cache=True, error_model="numpy")(jac)\n' if jac else "") + \
+                mode_source(compiled.meta, n_params, plain, minors)
+            namespace = _load(key, text)
+            functions = (_functions(namespace, ("mode_rhs", "jac" if jac else None,
+                                                "mode_events")),
+                         _functions(namespace, ("mode_rhs", None, "mode_events")))
     _loaded[key] = functions
     return functions
 
@@ -116,13 +132,14 @@ def _module_text(sources) -> str:
     return _HEADER + "\n\n" + "\n\n".join(body) + "\n\n" + "\n".join(decorations) + "\n"
 
 
-def _load(key, text, names=("rhs", "jac", "events")):
+def _load(key, text) -> dict:
+    """The namespace of the compiled module ``text``."""
     directory = cache.cache_dir()
     if directory is None:
         folder = Path(tempfile.mkdtemp(prefix="mechdyn-numba-"))
-        return _functions(vars(_import(folder, key, text)), names)
+        return vars(_import(folder, key, text))
     try:
-        return _functions(vars(_load_cached(directory, key, text)), names)
+        return vars(_load_cached(directory, key, text))
     except OSError:             # a full or size-limited disk: compiled in memory instead
         shutil.rmtree(directory / "numba" / key, ignore_errors=True)
         with suppress(OSError):
@@ -130,7 +147,7 @@ def _load(key, text, names=("rhs", "jac", "events")):
         namespace = {"__name__": f"mechdyn_model_{key}"}
         exec(compile(text.replace("cache=True", "cache=False"), f"<mechdyn model {key}>",
                      "exec"), namespace)
-        return _functions(namespace, names)
+        return namespace
 
 
 def _functions(namespace, names):

@@ -27,14 +27,17 @@ class CompiledSegment:
 
     ``functions``: the scene's :func:`~mechdyn.compile.numba_model.numba_functions`; ``p`` the
     parameter vector; ``watched``: ``(index in events, direction, side while zero)``
-    per watched event, in the order the driver numbers them; ``switch``: whether the
-    kernel may report that the method no longer fits (stiff / not stiff).
+    per watched event, in the order the driver numbers them; the last ``drift`` of them
+    end the segment with status ``"drift"`` (the state left its constraints) when they
+    fire alone; ``switch``: whether the kernel may report that the method no longer
+    fits (stiff / not stiff).
     """
 
     def __init__(self, method, functions, p, t0, y0, t_bound, rtol, atol, segment,
                  watched=(), n_events=0, first_step=None, max_step=np.inf, switch=False,
-                 autonomous=False):
+                 autonomous=False, drift=0):
         self.method, self.segment, self.t_bound = method, segment, t_bound
+        self.events = len(watched) - drift       # the driver's watched events
         directions = np.full(n_events, IGNORED, dtype=np.int64)
         for index, direction, _ in watched:
             directions[index] = direction
@@ -88,7 +91,9 @@ class CompiledSegment:
             return Outcome("chunk", t, y)
         if status == EVENT:
             fired = [k for k, index in enumerate(self.order) if chunk.fired[index] != 0]
-            return Outcome("event", t, y, fired)
+            if fired and fired[0] >= self.events:
+                return Outcome("drift", t, y)
+            return Outcome("event", t, y, [k for k in fired if k < self.events])
         if status in (STIFF, NONSTIFF):
             return Outcome("stiff", t, y)
         return Outcome("failed", t, y, message=f"the compiled {self.method} stopped: "

@@ -171,8 +171,8 @@ class Driver:
         hold = _HOLD_STEPS if getattr(self, "_settle", False) else 0
         self._settle = False
         if backend == "compiled":
-            run = compiled_runner(self, self.plan.functions_for(mode), mode, method, t0, y0, t_end, h,
-                                  watched, rtol, atol, segment, switch=self.auto)
+            run = compiled_runner(self, self.plan.functions_for(mode), mode, method, t0, y0,
+                                  t_end, h, watched, rtol, atol, segment, switch=self.auto)
         else:
             monitor = None
             if self.auto and not mode.groups:

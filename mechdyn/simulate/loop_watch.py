@@ -32,18 +32,24 @@ class LoopWatch:
         self.c, self.rtol = compiled, rtol
         self.scale = None               # size of G's largest minor at the assembled start
 
-    def drifted(self, y0, p):
-        """``drift(t, y) -> bool`` for a segment starting at ``y0``, or None."""
-        if not self.c.constraints:
-            return None
+    def limits(self, y0, p) -> tuple:
+        """The largest drifts of the positions and speeds a segment starting at ``y0``
+        allows (``rtol`` times the loops' size)."""
         from mechdyn.simulate.assembly import closure_parts
         _, grads, _, _ = closure_parts(self.c, 0.0, y0, p)
         size = float(np.max(np.abs(grads)))
         speed_scale = 1.0 + float(np.max(np.abs(y0[self.c.dof:])))
+        return self.rtol * size, self.rtol * size * speed_scale
+
+    def drifted(self, y0, p):
+        """``drift(t, y) -> bool`` for a segment starting at ``y0``, or None."""
+        if not self.c.constraints:
+            return None
+        position_limit, speed_limit = self.limits(y0, p)
 
         def drift(t, y):
             position, speed = self.c.drift(t, y, p)
-            return position > self.rtol * size or speed > self.rtol * size * speed_scale
+            return position > position_limit or speed > speed_limit
         return drift
 
     def watched_minor(self, t, y, p):

@@ -28,7 +28,7 @@ import numpy as np
 __all__ = ["choose_method", "explicit_for", "stiff_for", "STIFF", "StiffnessMonitor",
            "fallbacks", "STABILITY_LIMIT", "STIFF_RTOL_FLOOR", "segment_tolerances",
            "motion_jacobian", "backend_plan", "BackendPlan", "BACKENDS", "KERNEL_ONLY",
-           "uses_kernels", "scene_compilable", "needs_modes"]
+           "uses_kernels", "scene_compilable", "has_modes", "compiled_functions"]
 
 STIFF = "Radau"
 STIFF_RTOL_FLOOR = 1e-8
@@ -150,16 +150,17 @@ def fallbacks(method, rtol, compiled=False) -> list:
 
 
 def scene_compilable(compiled) -> bool:
-    """Whether a scene's segments can run on the kernels at all: not with closed loops
-    or lossy gears, whose segments always run on scipy."""
-    return not (compiled.constraints or compiled.meta.get("gears"))
+    """Whether a scene's segments can run on the kernels at all: not with lossy gears,
+    whose segments always run on scipy."""
+    return not compiled.meta.get("gears")
 
 
-def needs_modes(compiled, mode) -> bool:
-    """Whether a segment runs on the scene's mode functions
-    (:mod:`mechdyn.compile.mode_code`) rather than its plain ``rhs``: stuck elements or
-    stop limits (whose gaps are watched from an offset)."""
-    return bool(mode.groups or compiled.meta.get("contacts"))
+def has_modes(compiled) -> bool:
+    """Whether a scene's segments run on its mode functions
+    (:mod:`mechdyn.compile.mode_code`) rather than its plain ``rhs``: friction elements
+    (which may stick), stop limits (whose gaps are watched from an offset) or closed
+    loops (their drift and singular positions watched)."""
+    return bool(compiled.frictions or compiled.meta.get("contacts") or compiled.constraints)
 
 
 def uses_kernels(compiled, method) -> bool:
@@ -169,8 +170,14 @@ def uses_kernels(compiled, method) -> bool:
     cached in memory and on disk)."""
     if method not in ("auto", *_KERNEL) or not scene_compilable(compiled):
         return False
-    from mechdyn.compile.numba_model import numba_functions
-    return numba_functions(compiled) is not None
+    return compiled_functions(compiled) is not None
+
+
+def compiled_functions(compiled):
+    """The scene's compiled form: its mode functions where it has modes
+    (:func:`has_modes`), else its plain functions; None where it has none."""
+    from mechdyn.compile.numba_model import mode_functions, numba_functions
+    return mode_functions(compiled) if has_modes(compiled) else numba_functions(compiled)
 
 
 def backend_plan(compiled, method, backend) -> "BackendPlan":
@@ -203,16 +210,15 @@ class BackendPlan:
       and its method may run on them (``"auto"``, DOP853 or Rodas5P: :func:`uses_kernels`);
       otherwise scipy.
 
-    Either way, segments without a compiled form run on scipy, decided by the segment's
-    kind: closed loops and lossy gears (their loss is decided per step). Segments with
-    stuck elements or stop limits run on the scene's mode functions (compiled when the
-    first such segment starts; the mode decisions and impacts stay in Python).
+    Scenes with lossy gears (their loss is decided per step) run on scipy. Scenes with
+    friction elements, stop limits or closed loops run on their mode functions
+    (:func:`compiled_functions`); the mode decisions, impacts and projections onto the
+    loops stay in Python, between segments.
     """
 
     def __init__(self, compiled, method, option):
         self.c, self.named, self.option = compiled, method, option
         self.functions = None
-        self._modes = False            # the mode functions: not yet loaded
         self.why = ""
         if option == "auto" and uses_kernels(compiled, method):
             self.load()
@@ -225,26 +231,19 @@ class BackendPlan:
         """Compile or load the scene for the kernels; True when it has a compiled form."""
         if self.option == "scipy":
             return False
-        if self.functions is None:
-            from mechdyn.compile.numba_model import numba_functions
-            self.functions = numba_functions(self.c)
+        if self.functions is None and scene_compilable(self.c):
+            self.functions = compiled_functions(self.c)
         return self.functions is not None
 
-    def mode_functions(self):
-        """The scene's mode functions (None: it has none)."""
-        if self._modes is False:
-            from mechdyn.compile.numba_model import mode_functions
-            self._modes = mode_functions(self.c)
-        return self._modes
-
     def functions_for(self, mode):
-        """The compiled functions a segment with ``mode`` runs on."""
-        return self.mode_functions() if needs_modes(self.c, mode) else self.functions
+        """The compiled functions a segment with ``mode`` runs on (of a scene with
+        modes: with the analytic Jacobian where nothing is stuck)."""
+        if not has_modes(self.c):
+            return self.functions
+        return self.functions[1 if mode.groups else 0]
 
     def compilable(self, mode) -> bool:
-        if not scene_compilable(self.c):
-            return False
-        return not needs_modes(self.c, mode) or self.mode_functions() is not None
+        return scene_compilable(self.c)
 
     def method(self, name, mode) -> str:
         """The method a segment runs for a requested one: the kernels' own where they

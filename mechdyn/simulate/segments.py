@@ -102,24 +102,34 @@ def compiled_runner(context, functions, mode, method, t0, y0, t_end, h, watched,
                     atol, segment, switch):
     """A :class:`CompiledSegment`. On the plain functions every watched event is an
     entry of ``events``; on the mode functions (:mod:`mechdyn.compile.mode_code`:
-    stuck elements, stop limits) the mode's numbers follow the parameters, the gaps are
-    watched from their offsets and each stuck group's holding margin follows the
-    entries of ``events``."""
+    stuck elements, stop limits, closed loops) the mode's numbers follow the parameters,
+    the gaps are watched from their offsets, each stuck group's holding margin follows
+    the entries of ``events``, then the loops' watched minor and the room left to their
+    drifts (the last two watched entries: a drift ends the segment for a projection)."""
     from mechdyn.compile.mode_code import mode_vector
     from mechdyn.simulate.compiled_stepping import CompiledSegment
-    from mechdyn.simulate.methods import needs_modes
+    from mechdyn.simulate.methods import has_modes
     c, modes = context.c, context.modes
     p, size = modes.p(mode), len(c.event_kinds)
-    max_step = np.inf
-    if needs_modes(c, mode):
+    max_step, extra, minor = np.inf, [], None
+    if has_modes(c):
         offsets = {w.element: w.offset for w in watched if w.kind == "gap"}
-        p = p + mode_vector(mode, modes.kinds, modes.frozen, modes.contacts, offsets)
-        size += len(mode.groups)
+        loops = ()
+        if c.constraints:                  # the watched minor, the drifts allowed
+            minor = next(w.index for w in watched if w.kind == "minor")
+            loops = (minor, *context.loops.limits(y0, p))
+            extra = [(size + len(mode.groups) + 1 + k, -1, 1) for k in range(2)]
+        p = p + mode_vector(mode, modes.kinds, modes.frozen, modes.contacts, offsets, loops)
         max_step = context.max_step if mode.groups else np.inf
-    spec = [(size - len(mode.groups) + w.index if w.kind == "release" else w.index,
-             w.direction, w.side) for w in watched]
-    return CompiledSegment(method, functions, p, t0, y0, t_end, rtol, atol, segment, spec,
-                           size, first_step=h, max_step=max_step,
+    groups = size + len(mode.groups)
+
+    def entry(w):
+        return size + w.index if w.kind == "release" else groups if w.kind == "minor" \
+            else w.index
+    spec = [(entry(w), w.direction, w.side) for w in watched]
+    return CompiledSegment(method, functions, p, t0, y0, t_end, rtol, atol, segment,
+                           spec + extra, groups + (3 if minor is not None else 0),
+                           first_step=h, max_step=max_step, drift=len(extra),
                            switch=switch and not mode.groups,
                            autonomous=c.meta.get("autonomous", False))
 
