@@ -72,14 +72,13 @@ def mode_functions(compiled):
     (``mode_rhs``, ``mode_events``: :mod:`mechdyn.compile.mode_code`), compiled like
     :func:`numba_functions`, as a pair of :class:`~mechdyn.kernels.ModelFunctions`:
     with the analytic Jacobian (where it is scalar code) for segments where nothing is
-    stuck, without it for the others; None where the scene has none (lossy gears,
-    Python helpers in its ``terms``, ``events`` or loop functions) or numba is
-    missing."""
+    stuck, without it for the others; None where the scene has none (Python helpers in
+    its ``terms``, ``events`` or loop functions) or numba is missing."""
     key = compiled.key + "-modes"
     if key in _loaded:
         return _loaded[key]
     functions = None
-    if available() and not compiled.meta.get("gears"):
+    if available():
         sources = _split(compiled.source)
         needed = ["terms", "events"] + (["drift", "loop_minors"] if compiled.constraints
                                         else [])

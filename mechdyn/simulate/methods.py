@@ -28,7 +28,8 @@ import numpy as np
 __all__ = ["choose_method", "explicit_for", "stiff_for", "STIFF", "StiffnessMonitor",
            "fallbacks", "STABILITY_LIMIT", "STIFF_RTOL_FLOOR", "segment_tolerances",
            "motion_jacobian", "backend_plan", "BackendPlan", "BACKENDS", "KERNEL_ONLY",
-           "uses_kernels", "scene_compilable", "has_modes", "compiled_functions"]
+           "uses_kernels", "has_modes", "compiled_functions",
+           "mode_compilable"]
 
 STIFF = "Radau"
 STIFF_RTOL_FLOOR = 1e-8
@@ -149,10 +150,13 @@ def fallbacks(method, rtol, compiled=False) -> list:
     return [m for m in ladder if m != method]
 
 
-def scene_compilable(compiled) -> bool:
-    """Whether a scene's segments can run on the kernels at all: not with lossy gears,
-    whose segments always run on scipy."""
-    return not compiled.meta.get("gears")
+def mode_compilable(compiled, mode) -> bool:
+    """Whether a segment with ``mode`` has a compiled form: not where a lossy gear is
+    stuck together with other elements (the share of their holding force is a linear
+    programme, solved on scipy)."""
+    kinds = compiled.meta.get("friction_kinds", [])
+    return not any(len(group) > 1 and any(k < len(kinds) and kinds[k] == "gear"
+                                          for k, _ in group) for group in mode.groups)
 
 
 def has_modes(compiled) -> bool:
@@ -168,7 +172,7 @@ def uses_kernels(compiled, method) -> bool:
     numba is importable, the scene has a compiled form and the method runs there (the
     rule of :class:`BackendPlan`; the first call may compile the scene, about 0.5 s,
     cached in memory and on disk)."""
-    if method not in ("auto", *_KERNEL) or not scene_compilable(compiled):
+    if method not in ("auto", *_KERNEL):
         return False
     return compiled_functions(compiled) is not None
 
@@ -210,10 +214,11 @@ class BackendPlan:
       and its method may run on them (``"auto"``, DOP853 or Rodas5P: :func:`uses_kernels`);
       otherwise scipy.
 
-    Scenes with lossy gears (their loss is decided per step) run on scipy. Scenes with
-    friction elements, stop limits or closed loops run on their mode functions
-    (:func:`compiled_functions`); the mode decisions, impacts and projections onto the
-    loops stay in Python, between segments.
+    Scenes with friction elements, one-way clutches, lossy gears, stop limits or closed
+    loops run on their mode functions (:func:`compiled_functions`); the mode
+    decisions, impacts and projections onto the loops stay in Python, between
+    segments. A segment where a lossy gear is stuck together with other elements runs
+    on scipy (:func:`mode_compilable`).
     """
 
     def __init__(self, compiled, method, option):
@@ -231,7 +236,7 @@ class BackendPlan:
         """Compile or load the scene for the kernels; True when it has a compiled form."""
         if self.option == "scipy":
             return False
-        if self.functions is None and scene_compilable(self.c):
+        if self.functions is None:
             self.functions = compiled_functions(self.c)
         return self.functions is not None
 
@@ -243,7 +248,7 @@ class BackendPlan:
         return self.functions[1 if mode.groups else 0]
 
     def compilable(self, mode) -> bool:
-        return scene_compilable(self.c)
+        return mode_compilable(self.c, mode)
 
     def method(self, name, mode) -> str:
         """The method a segment runs for a requested one: the kernels' own where they
