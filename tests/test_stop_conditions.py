@@ -68,11 +68,14 @@ def test_coordinate_starting_below_the_value_stops_at_the_crossing_in_its_direct
 
 def _time_only_cases():
     # cos t: the first (falling) crossing at pi/3 comes before the solver's long steps
-    # start; every case whose crossing comes later is skipped today.
+    # start; every case whose crossing comes later is skipped today, except the rising
+    # cos t at 5 pi/3, which the compiled kernels (the default backend) see at a step's
+    # midpoint sample.
     for name, expression, crossings in (("cos t", cos_t, FROM_ABOVE),
                                         ("-cos t", minus_cos_t, FROM_BELOW)):
         for direction, expected in crossings:
-            marks = [TIME_ONLY_SKIPPED] if expected > 1.2 else []
+            seen = (name, direction) == ("cos t", +1)
+            marks = [TIME_ONLY_SKIPPED] if expected > 1.2 and not seen else []
             yield pytest.param(expression, direction, expected, marks=marks,
                                id=f"{name} direction {direction:+d}")
 
@@ -96,8 +99,8 @@ def test_condition_met_at_the_start_stops_at_its_next_crossing(direction, expect
         pytest.approx(expected, rel=1e-8)
 
 
-@TIME_ONLY_SKIPPED
-@pytest.mark.parametrize("direction, expected", [(+1, 2 * math.pi), (-1, math.pi)])
+@pytest.mark.parametrize("direction, expected", [      # pi: seen at a midpoint sample
+    pytest.param(+1, 2 * math.pi, marks=TIME_ONLY_SKIPPED), (-1, math.pi)])
 def test_expression_of_time_met_at_the_start_stops_at_its_next_crossing(direction, expected):
     assert stop_time(md.reaches(sp.sin(md.t), 0, direction=direction), 0, 0) == \
         pytest.approx(expected, rel=1e-8)

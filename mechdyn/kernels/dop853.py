@@ -56,9 +56,10 @@ def attempt(rhs, t, y, h, t_new, p, atol, rtol, K, y_stage, y_new):
         scale = atol[i] + rtol * max(abs(y[i]), abs(y_new[i]))
         err5 += (e5 / scale) ** 2
         err3 += (e3 / scale) ** 2
-    if err5 == 0.0 and err3 == 0.0:
+    denominator = math.sqrt((err5 + 0.01 * err3) * n)
+    if denominator == 0.0:        # no error, or one so small that 0.01 err3 underflows
         return 0.0
-    norm = abs(h) * err5 / math.sqrt((err5 + 0.01 * err3) * n)
+    norm = abs(h) * err5 / denominator
     return norm if math.isfinite(norm) else math.inf
 
 

@@ -118,7 +118,9 @@ def test_friction_output_is_the_sliding_friction_moment():
         md.Scene("b", effects=["shoe"], initial={model.mechanism.coordinates[0]: 0,
                  md.speed(model.mechanism.coordinates[0]): 100}, t_end=60, outputs=["shoe"]),
         model.params)
-    sliding = res.t < 50
+    stick = next(e.time for e in res.events if e.kind == "stick")
+    assert stick == pytest.approx(50.0, rel=1e-12)
+    sliding = res.t < stick                       # before the stick event (held there)
     assert np.allclose(res["shoe"][sliding], -0.8, rtol=1e-14)
     held = res.t > 50 * (1 + 1e-9)                          # past the stop event itself
     assert np.all(res["shoe"][held] == 0.0)                 # held with no load: no force
