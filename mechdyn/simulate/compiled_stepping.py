@@ -30,12 +30,14 @@ class CompiledSegment:
     per watched event, in the order the driver numbers them; the last ``drift`` of them
     end the segment with status ``"drift"`` (the state left its constraints) when they
     fire alone; ``switch``: whether the kernel may report that the method no longer
-    fits (stiff / not stiff).
+    fits (stiff / not stiff); ``midpoint``: whether events are also sampled at each
+    step's midpoint (on the interpolant, which may leave the loops' constraints further
+    than the steps do).
     """
 
     def __init__(self, method, functions, p, t0, y0, t_bound, rtol, atol, segment,
                  watched=(), n_events=0, first_step=None, max_step=np.inf, switch=False,
-                 autonomous=False, drift=0):
+                 autonomous=False, drift=0, midpoint=True):
         self.method, self.segment, self.t_bound = method, segment, t_bound
         self.events = len(watched) - drift       # the driver's watched events
         directions = np.full(n_events, IGNORED, dtype=np.int64)
@@ -46,7 +48,8 @@ class CompiledSegment:
                                method=KERNEL_METHODS[method], rtol=rtol, atol=atol,
                                directions=directions if n_events else (),
                                h0=first_step or 0.0, max_step=max_step,
-                               autonomous=autonomous, detect_switch=switch)
+                               autonomous=autonomous, detect_switch=switch,
+                               midpoint_events=midpoint)
         if n_events:                   # the side each event counts as while it is zero
             n = len(y0)
             self.run.carry[EVENTS_VALID] = 1.0

@@ -105,7 +105,9 @@ def compiled_runner(context, functions, mode, method, t0, y0, t_end, h, watched,
     stuck elements, stop limits, closed loops) the mode's numbers follow the parameters,
     the gaps are watched from their offsets, each stuck group's holding margin follows
     the entries of ``events``, then the loops' watched minor and the room left to their
-    drifts (the last two watched entries: a drift ends the segment for a projection)."""
+    drifts (the last two watched entries: a drift ends the segment for a projection).
+    As on scipy, a segment with loops and nothing stuck samples its events at the step
+    ends only: the drift is the steps', not the interpolant's."""
     from mechdyn.compile.mode_code import mode_vector
     from mechdyn.simulate.compiled_stepping import CompiledSegment
     from mechdyn.simulate.methods import has_modes
@@ -130,6 +132,7 @@ def compiled_runner(context, functions, mode, method, t0, y0, t_end, h, watched,
     return CompiledSegment(method, functions, p, t0, y0, t_end, rtol, atol, segment,
                            spec + extra, groups + (3 if minor is not None else 0),
                            first_step=h, max_step=max_step, drift=len(extra),
+                           midpoint=bool(mode.groups) or not c.constraints,
                            switch=switch and not mode.groups,
                            autonomous=c.meta.get("autonomous", False))
 
