@@ -7,11 +7,13 @@ scene, in one process (issue 25).
 Each scene runs once per backend to warm up (the default compiles or loads the scene's
 mode functions then, cached on disk), then the *second run* is timed, and the minimum
 over ``--repeats`` runs is shown beside it (the machine is shared). The table names
-the backends the default's steps took and the ratio of the second runs.
+the backends the default's steps took and the ratio of the second runs. Garbage is
+collected before each timed run (for both backends alike).
 """
 from __future__ import annotations
 
 import argparse
+import gc
 import sys
 import time
 from dataclasses import replace
@@ -34,6 +36,7 @@ def timed_runs(model, scene, repeats):
     model.mechanism.simulate(scene, model.params)                   # warm-up
     times, backends = [], {}
     for _ in range(repeats):
+        gc.collect()                   # the warm-up's garbage is not the run's cost
         started = time.perf_counter()
         res = model.mechanism.simulate(scene, model.params)
         times.append(time.perf_counter() - started)
