@@ -94,6 +94,23 @@ def test_the_freewheel_locks_while_pedalling_and_lets_the_wheel_overrun(backend)
     assert res.final(pedals) == 0.0
 
 
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_the_worm_hoist_lifts_coasts_up_and_locks(backend):
+    # models/worm_hoist.py's docstring: lifting, the drum accelerates at
+    # (i eta M - m g r) / (J_d + m r^2 + eta i^2 J_m) = 43.8 / 8.9 rad/s^2; with the motor
+    # off at t_m = 1 s it decelerates at m g r / 8.9 = 196.2 / 8.9, stops at
+    # 1 + 43.8 / 196.2 s and stays locked (self-locking: the load cannot drive the worm).
+    model = md.load_model("models/worm_hoist.py")
+    res = run(model, "lift", backend)
+    drum = md.speed(md.coordinate("phi_d"))
+    assert res.at(0.5, drum) == pytest.approx(0.5 * 43.8 / 8.9, rel=1e-9)
+    stop = 1 + 43.8 / 196.2
+    assert res.at(1.1, drum) == pytest.approx(43.8 / 8.9 - 0.1 * 196.2 / 8.9, rel=1e-9)
+    stick = [e for e in res.events if e.kind == "stick"]
+    assert stick and stick[0].time == pytest.approx(stop, rel=1e-9)
+    assert res.final(drum) == 0.0
+
+
 def _compare(model_path, scene_name, rtol):
     """The compiled path against scipy: same events (kinds, elements; times within
     ``rtol`` of the run's length), the same final state within ``rtol``."""
@@ -118,6 +135,7 @@ def test_friction_scenes_agree_with_scipy(model_path, scene_name):
 @pytest.mark.slow
 @pytest.mark.parametrize("model_path, scene_name", [
     ("models/clutch_engagement.py", "engage_loaded"), ("models/hoist_drive.py", "lower_brake"),
+    ("models/worm_hoist.py", "hold"), ("models/hard_stop.py", "bounce"),
     ("models/motor_startup.py", "braking"), ("models/press_cycle.py", "startup"),
     ("models/fourbar_flywheel.py", "startup"), ("models/quick_return.py", "startup"),
     ("models/watt_sixbar.py", "startup"), ("models/toggle_press.py", "startup")])
