@@ -89,7 +89,7 @@ def mode_functions(compiled):
             names = needed + (["rhs"] if plain else [])
             jac = plain and not _uses_helpers(sources["jac"])
             minors = math.comb(compiled.dof, len(compiled.constraints))
-            text = _HEADER + "\n\n" + "\n\n".join(
+            text = _HEADER + _kernels_fingerprint() + "\n\n" + "\n\n".join(
                 sources[name] for name in names + (["jac"] if jac else [])) + "\n" + \
                 "".join(f'{name} = njit(_RHS, cache=True, error_model="numpy")({name})\n'
                         for name in names) + \
@@ -101,6 +101,17 @@ def mode_functions(compiled):
                          _functions(namespace, ("mode_rhs", None, "mode_events")))
     _loaded[key] = functions
     return functions
+
+
+def _kernels_fingerprint() -> str:
+    """A comment line with the hash of the generic numerics the mode functions call:
+    numba's cache of a scene's module does not follow edits of the modules it calls, so
+    the module text (whose hash the trusted cache checks) changes with them."""
+    folder = Path(__file__).parents[1] / "kernels"
+    digest = hashlib.sha256()
+    for name in ("modes.py", "linalg.py"):
+        digest.update((folder / name).read_bytes())
+    return f"# generic numerics: {digest.hexdigest()[:16]}\n"
 
 
 def _split(source) -> dict:
