@@ -59,6 +59,31 @@ def test_static_friction_holds_until_the_pull_exceeds_it_then_slides(backend):
 
 
 @pytest.mark.parametrize("backend", BACKENDS)
+def test_slider_friction_does_not_stick_at_the_dead_centres(backend):
+    # A crank (J = 0.05, R = 0.1, rod 0.4) coasting from 19.5 rad/s at a dead centre
+    # against 5 N of slider friction: the slider stops at every dead centre while the
+    # crank turns on; the crank stops once F times the slider's path has used up
+    # J w0^2 / 2 = 9.50625 J: 1.90125 m, nine strokes of 0.2 m from the outer dead
+    # centre (x = 0.5) and 0.10125 m out from the inner one (x = 0.3).
+    phi = md.coordinate("phi")
+    x = 0.1 * sp.cos(phi) + sp.sqrt(0.4**2 - 0.1**2 * sp.sin(phi) ** 2)
+    crank = md.Mechanism("slider-crank", [phi])
+    crank.link("crank", J=0.05, angle=phi)
+    crank.link("slider", m=2.0, x=x)
+    crank.friction("slider friction", 5.0, along=x)
+    scene = md.Scene("coast", initial={phi: 0, md.speed(phi): 19.5}, t_end=6,
+                     backend=backend)
+    res = crank.simulate(scene, {})
+    assert set(res.stats["backends"]) == ({"compiled"} if backend == "auto" else {"scipy"})
+    assert [e.kind for e in res.events if e.kind != "slip"] == ["stick"]
+    assert res.final(md.speed(phi)) == 0.0
+    angle = res.final(phi)
+    assert 9 * math.pi < angle < 10 * math.pi
+    position = 0.1 * math.cos(angle) + math.sqrt(0.4**2 - 0.1**2 * math.sin(angle) ** 2)
+    assert position == pytest.approx(0.3 + 0.5 * 0.05 * 19.5**2 / 5.0 - 1.8, rel=1e-8)
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
 def test_the_lever_bounces_by_the_law_of_restitution(backend):
     # models/hard_stop.py: J = 0.02, drive M = 4 from theta_0 = 0.5 to the stop, e = 0.6.
     J, M, THETA, E = 0.02, 4.0, 0.5, 0.6
