@@ -11,11 +11,11 @@ so one compilation serves every mode of the scene:
 
 - ``mode_rhs``: ``terms`` (mass matrix, forcing, gradients, biases) and the constrained
   equations of the mode (closed loops, stuck groups, sliding lossy gears:
-  :func:`mechdyn.kernels.modes.constrained`, as
+  :func:`mechdyn.compile.mode_numerics.constrained`, as
   :func:`mechdyn.simulate.constrained.solve`); coordinates held by a stuck element
   keep exactly zero speed;
 - ``mode_events``: the scene's ``events`` (gaps minus their offsets) followed by one
-  holding margin per stuck group (:func:`mechdyn.kernels.modes.group_margins`, as
+  holding margin per stuck group (:func:`mechdyn.compile.mode_numerics.group_margins`, as
   :func:`mechdyn.simulate.constrained.group_check` for groups without a lossy gear
   among other members).
 
@@ -31,7 +31,7 @@ __all__ = ["mode_source", "mode_vector", "KIND_CODES"]
 KIND_CODES = {"friction": 0.0, "one_way": 1.0, "contact": 2.0, "gear": 3.0}
 
 _TEMPLATE = '''
-from mechdyn.kernels.modes import constrained, frozen_speeds, group_margins
+from mechdyn.compile.mode_numerics import constrained, frozen_speeds, group_margins
 import numpy as _np
 
 _LAY = _np.array({layout}, dtype=_np.int64)
@@ -89,7 +89,7 @@ def mode_source(meta, n_params, plain=False, minors=0) -> str:
     loops ``mode_events`` ends with the watched minor of the loops and the room left to
     the drifts of their positions and speeds
     (:class:`mechdyn.simulate.loop_watch.LoopWatch`)."""
-    from mechdyn.kernels.modes import LAYOUT_NAMES
+    from mechdyn.compile.mode_numerics import LAYOUT_NAMES
     offsets = {name: offset for name, offset, _ in meta["terms"]}
     gaps = [i for i, (kind, _) in enumerate(meta["events"]) if kind == "gap"]
     gears = meta.get("gears", [])

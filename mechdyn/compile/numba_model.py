@@ -107,10 +107,10 @@ def _kernels_fingerprint() -> str:
     """A comment line with the hash of the generic numerics the mode functions call:
     numba's cache of a scene's module does not follow edits of the modules it calls, so
     the module text (whose hash the trusted cache checks) changes with them."""
-    folder = Path(__file__).parents[1] / "kernels"
+    package = Path(__file__).parents[1]
     digest = hashlib.sha256()
-    for name in ("modes.py", "linalg.py"):
-        digest.update((folder / name).read_bytes())
+    for name in ("compile/mode_numerics.py", "kernels/linalg.py"):
+        digest.update((package / name).read_bytes())
     return f"# generic numerics: {digest.hexdigest()[:16]}\n"
 
 

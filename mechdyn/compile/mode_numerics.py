@@ -22,7 +22,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .linalg import lu_factor, lu_solve
+from mechdyn.kernels.linalg import lu_factor, lu_solve
 
 __all__ = ["LAYOUT_NAMES", "constrained", "group_margins", "frozen_speeds"]
 
