@@ -2,7 +2,9 @@
 
 The source :mod:`mechdyn.compile.generate` writes runs as plain Python and compiles unchanged
 with numba: ``rhs``, ``events`` and (where it is scalar code) ``jac`` get the kernels'
-signatures (:mod:`mechdyn.kernels.functions`). A scene whose right-hand side calls a
+signatures (:mod:`mechdyn.kernels.functions`). A scene with friction elements, stops or
+closed loops gets a module of its own with its mode functions (:func:`mode_functions`,
+:mod:`mechdyn.compile.mode_code`). A scene whose right-hand side calls a
 Python helper (more than ``UNROLLED_LIMIT`` coordinates) has no compiled form and runs
 on scipy.
 
@@ -83,24 +85,33 @@ def mode_functions(compiled):
         needed = ["terms", "events"] + (["drift", "loop_minors"] if compiled.constraints
                                         else [])
         if not any(_uses_helpers(sources[name]) for name in needed):
-            from mechdyn.compile.mode_code import mode_source
-            n_params = len(compiled.param_names) + len(compiled.frictions) + compiled.flags
-            plain = not _uses_helpers(sources["rhs"])
-            names = needed + (["rhs"] if plain else [])
-            jac = plain and not _uses_helpers(sources["jac"])
-            minors = math.comb(compiled.dof, len(compiled.constraints))
-            text = _HEADER + _kernels_fingerprint() + "\n\n" + "\n\n".join(
-                sources[name] for name in names + (["jac"] if jac else [])) + "\n" + \
-                "".join(f'{name} = njit(_RHS, cache=True, error_model="numpy")({name})\n'
-                        for name in names) + \
-                ('jac = njit(_JAC, cache=True, error_model="numpy")(jac)\n' if jac else "") + \
-                mode_source(compiled.meta, n_params, plain, minors)
+            text, jac = _mode_module_text(compiled, sources, needed)
             namespace = _load(key, text)
             functions = (_functions(namespace, ("mode_rhs", "jac" if jac else None,
                                                 "mode_events")),
                          _functions(namespace, ("mode_rhs", None, "mode_events")))
     _loaded[key] = functions
     return functions
+
+
+def _mode_module_text(compiled, sources, needed) -> tuple:
+    """The text of a scene's mode module (its ``needed`` functions, its ``rhs`` and
+    ``jac`` where they are scalar code, ``mode_rhs`` and ``mode_events``) and whether
+    it has the Jacobian."""
+    from mechdyn.compile.mode_code import mode_source
+    n_params = len(compiled.param_names) + len(compiled.frictions) + compiled.flags
+    plain = not _uses_helpers(sources["rhs"])
+    names = needed + (["rhs"] if plain else [])
+    jac = plain and not _uses_helpers(sources["jac"])
+    minors = math.comb(compiled.dof, len(compiled.constraints))
+    decorations = [f'{name} = njit(_RHS, cache=True, error_model="numpy")({name})'
+                   for name in names]
+    if jac:
+        decorations.append('jac = njit(_JAC, cache=True, error_model="numpy")(jac)')
+    body = [sources[name] for name in names + (["jac"] if jac else [])]
+    return (_HEADER + _kernels_fingerprint() + "\n\n" + "\n\n".join(body) + "\n" +
+            "\n".join(decorations) + "\n" + mode_source(compiled.meta, n_params, plain,
+                                                       minors)), jac
 
 
 def _kernels_fingerprint() -> str:
