@@ -19,7 +19,9 @@ import numpy as np
 
 from mechdyn.errors import MechdynError
 
-__all__ = ["KINDS", "Display", "column_units", "kind_of", "cost_line"]
+__all__ = ["KINDS", "Display", "column_units", "kind_of", "cost_line", "tidy", "ROUNDING"]
+
+ROUNDING = 64 * np.finfo(float).eps   # relative to its scale, a value this small is 0
 
 # kind -> its SI unit (the text columns carry)
 KINDS = {"angle": "rad", "speed": "rad/s", "acceleration": "rad/s^2", "length": "m",
@@ -76,6 +78,23 @@ class Display:
             self.values(column, si, [0.0])
 
 
+def tidy(values, scale=None) -> np.ndarray:
+    """``values`` as a summary shows them: within rounding of zero relative to ``scale``
+    (the quantity's largest magnitude in the run; default the largest of ``values``)
+    they are exactly 0, and no zero is negative (a flywheel at rest, not -7.8e-16 rad/s
+    or -0 J).
+
+    >>> tidy([10.2337, -7.77156e-16, -0.0]).tolist()
+    [10.2337, 0.0, 0.0]
+    >>> tidy([1.0388e-28], scale=18018.0).tolist(), tidy([1e-9], scale=1.0).tolist()
+    ([0.0], [1e-09])
+    """
+    values = np.asarray(values, dtype=float)
+    if scale is None:
+        scale = np.max(np.abs(values), initial=0.0)
+    return np.where(np.abs(values) <= ROUNDING * abs(scale), 0.0, values) + 0.0
+
+
 def column_units(result) -> dict:
     """The SI unit of every column of ``result.columns()`` (``""`` where unknown)."""
     units = {"t": "s"}
@@ -99,3 +118,39 @@ def cost_line(stats) -> str:
     """What a run cost, from its ``stats``: method, steps, RHS calls, Jacobians, time."""
     return (f"{stats['method']}: {stats['steps']} steps, {stats['nfev']} RHS calls, "
             f"{stats.get('njev', 0)} Jacobians, {stats.get('wall_time', 0) * 1e3:.1f} ms")
+
+
+REPEATED = 3          # an element's event of one kind more often than this is grouped
+
+
+def event_groups(events, t_start=0.0, t_end=1.0) -> list:
+    """Events as ``(text, label, times)`` in the order they first happen (``label``
+    the short text a plot writes): one each, but the
+    repeated events of one element and kind (more than ``REPEATED``) as one group,
+    ``"slip guide: 83 times, t = 0.05 ... 3.98 s"``. Times closer to the start than
+    1e-12 of the run are the start (an event located at 5e-17 s happened at 0).
+
+    >>> from types import SimpleNamespace as E
+    >>> slips = [E(time=t, kind="slip", name="guide", detail="") for t in (5e-17, 1, 2, 3)]
+    >>> [text for text, _, _ in event_groups(slips, 0, 4)]
+    ['slip guide: 4 times, t = 0 ... 3 s']
+    """
+    span = max(t_end - t_start, 1e-300)
+
+    def at(time):
+        return t_start if abs(time - t_start) < 1e-12 * span else time
+    by_element = {}
+    for event in sorted(events, key=lambda e: e.time):
+        by_element.setdefault((event.kind, event.name), []).append(event)
+    groups = []
+    for (kind, name), group in by_element.items():
+        times = [at(e.time) for e in group]
+        if len(group) > REPEATED:
+            text = (f"{kind} {name}: {len(group)} times, t = {times[0]:.4g} ... "
+                    f"{times[-1]:.4g} s")
+            groups.append((text, text, times))
+        else:
+            groups += [(f"t = {time:.6g} s: {kind} {name} ({e.detail})",
+                        f"{kind} {name} (t = {time:.4g} s)", [time])
+                       for e, time in zip(group, times)]
+    return sorted(groups, key=lambda group: group[2][0])

@@ -5,8 +5,23 @@ The errors of this module, and those other modules define (``ModelFileError``,
 in one place. Warnings derive from :class:`MechdynWarning`.
 """
 
+import difflib
+
 __all__ = ["MechdynError", "MechdynWarning", "DeclarationError", "DerivationError", "SceneError",
-           "ParameterError", "SimulationError"]
+           "ParameterError", "SimulationError", "did_you_mean"]
+
+
+def did_you_mean(name, choices) -> str:
+    """``" (did you mean X?)"`` for the choice closest to a misspelt ``name`` (the same
+    letters swapped first, then the most similar), else "".
+
+    >>> did_you_mean("startp", ["startup", "braking"]), did_you_mean("rmp", ["rps", "rpm"])
+    (' (did you mean startup?)', ' (did you mean rpm?)')
+    """
+    choices = [str(c) for c in choices]
+    swapped = [c for c in choices if sorted(c) == sorted(str(name)) and c != str(name)]
+    close = swapped or difflib.get_close_matches(str(name), choices, n=1)
+    return f" (did you mean {close[0]}?)" if close else ""
 
 
 class MechdynError(Exception):

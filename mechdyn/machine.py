@@ -49,10 +49,20 @@ class Mechanism(declared.Mechanism):
         plain symbol; expressions of the crank angle and the dependent coordinates."""
         return derived.transmission_functions(self, order, scene)
 
-    def latex(self, scene=None) -> str:
-        """The derivation as LaTeX: energies, forces, reduced quantities, equations."""
+    def latex(self, scene=None, expanded=False) -> str:
+        """The derivation as LaTeX: positions, transmission functions and element laws
+        as named quantities, energies, reduced quantities, equations (``expanded``:
+        every term written out in the coordinates)."""
         from mechdyn.derive.latex import derivation_latex
-        return derivation_latex(self.equations(scene))
+        return derivation_latex(self.equations(scene), expanded)
+
+    def derivation(self, scene=None):
+        """The derivation as a textbook writes it, as data (a
+        :class:`~mechdyn.derive.textbook.Derivation`): ``quantities`` (named symbol ->
+        definition), ``reduced_inertia``, ``reduced_inertia_slope``, ``reduced_moment``,
+        ``mass_matrix``, ``forces`` in the named quantities; ``expand(expr)``."""
+        from mechdyn.derive.textbook import textbook
+        return textbook(self.equations(scene))
 
     def compile(self, scene):
         """The scene's compiled functions (``rhs``, ``jac`` in solve_ivp's ``(t, y)``
@@ -74,6 +84,15 @@ class Mechanism(declared.Mechanism):
         coordinates, speeds, element names or expressions)."""
         from mechdyn.derive.linear import linearize
         return linearize(self, scene, at, params, inputs, outputs)
+
+    def export_fmu(self, scene, params, path, inputs=(), start=None):
+        """Write ``scene`` as an FMI 2.0 Model Exchange FMU ``path`` (``.fmu``): C built
+        with the system compiler, parameters ``params`` as start values; ``inputs``:
+        parameters (or loads of one parameter) the FMU reads from outside; ``start``: a
+        state ``[q..., u...]`` replacing the scene's initial values
+        (:func:`mechdyn.report.fmu.export_fmu`)."""
+        from mechdyn.report.fmu import export_fmu
+        return export_fmu(self, scene, params or {}, path, inputs, start)
 
     def _repr_latex_(self):
         return self.equations()._repr_latex_()

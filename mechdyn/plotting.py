@@ -128,28 +128,41 @@ def _groups(curves, ratio=20.0):
 
 
 def _mark_events(strip, axes, events, t_start, t_end, rows=(0.3, 0.65)):
-    """A thin line per event time on every axes; the labels in the strip above them.
-    Events within 1.5 % of the run share one label; labels alternate between two rows
-    so neighbours do not overlap."""
+    """A thin line per event time on every axes (a tick in the strip for repeated
+    events); in the strip above them a label per
+    event, or per group of an element's repeated events (``slip guide: 83 times, t =
+    0.05 ... 3.98 s``), on two rows, each only where it fits (the result's ``events``
+    keep them all; a note counts the labels left out)."""
+    from mechdyn.display import event_groups
     strip.set_axis_off()
     strip.set_ylim(0, 1)
-    close = 0.015 * max(t_end - t_start, 1e-300)
-    clusters = []
-    for event in sorted(events, key=lambda e: e.time):
-        if clusters and event.time - clusters[-1][0].time <= close:
-            clusters[-1].append(event)
-        else:
-            clusters.append([event])
-    for k, cluster in enumerate(clusters):
-        for time in dict.fromkeys(e.time for e in cluster):
-            for ax in axes:
+    span = max(t_end - t_start, 1e-300)
+    groups = event_groups(events, t_start, t_end)
+    for _, _, times in groups:              # a repeated event: a tick in the strip only
+        for time in times:
+            for ax in axes if len(times) == 1 else ():
                 ax.axvline(time, color="grey", lw=0.6, ls="--", zorder=0)
             strip.axvline(time, ymax=rows[0] - 0.05, color="grey", lw=0.6)
-        names = ", ".join(dict.fromkeys(f"{e.kind} {e.name}" for e in cluster))
-        right = cluster[0].time > t_start + 0.5 * (t_end - t_start)
-        strip.text(cluster[0].time, rows[k % 2],
-                   f"{names} (t = {cluster[0].time:.4g} s)", fontsize=7, va="bottom",
+    width = strip.get_position().width * strip.figure.get_figwidth() * 72    # points
+    per_char = 0.6 * 7 / width * span                     # time per character at 7 pt
+    free = [t_start - span] * len(rows)                   # each row is free from here
+    left_out = 0
+    for _, label, times in groups:
+        size = (len(label) + 2) * per_char
+        right = times[0] > t_start + 0.5 * span
+        begin = times[0] - size if right else times[0]
+        row = next((k for k, after in enumerate(free) if begin >= after and
+                    t_start - 0.02 * span <= begin and begin + size <= t_end + 0.02 * span),
+                   None)
+        if row is None:
+            left_out += 1
+            continue
+        free[row] = begin + size
+        strip.text(times[0], rows[row], label, fontsize=7, va="bottom",
                    ha="right" if right else "left", clip_on=False)
+    if left_out:
+        strip.text(1.0, 0.95, f"+{left_out} event labels left out (result.events)",
+                   fontsize=6, ha="right", va="top", transform=strip.transAxes)
 
 
 def plot_sweep(sweep, y, path=None):
@@ -171,8 +184,8 @@ def plot_sweep(sweep, y, path=None):
     if failed:
         ax.plot(failed, [0] * len(failed), "rx", transform=ax.get_xaxis_transform(),
                 clip_on=False, label=f"failed ({len(failed)})")
-    ax.set_xlabel(x_name)
-    ax.set_ylabel("stop time t_end [s]" if y == "t_end" else y)
+    ax.set_xlabel(sweep.label(x_name))
+    ax.set_ylabel("stop time t_end [s]" if y == "t_end" else sweep.label(y))
     ax.set_title(f"{y} against {x_name} ({len(sweep)} points)")
     ax.grid(True, alpha=0.3)
     if ax.get_legend_handles_labels()[1]:

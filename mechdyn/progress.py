@@ -1,5 +1,6 @@
 """A progress line for long runs on the command line: the simulated time of the end
-time and the percentage, rewritten in place on stderr, cleared when the run ends.
+time and the percentage (or, for a run that ends by a stop condition, that condition),
+rewritten in place on stderr, cleared when the run ends.
 
 The simulation driver calls its ``progress(t, t_end)`` about every quarter second; the
 line appears only once a run has taken ``delay`` seconds (2 by default), so short runs
@@ -14,6 +15,16 @@ through :meth:`ProgressLine.phase`, and the line counts that phase's time.
 ...     line(10.0, 20.0)
 >>> stream.getvalue().split("\\r")[1:]
 ['mechdyn: t = 5 s of 20 s (25 %)', 'mechdyn: t = 10 s of 20 s (50 %)', '                                ', '']
+
+A run that ends by a stop condition (``until``) has no share of its time to show: the
+line names the condition and the time bound instead.
+
+>>> ticks, stream = iter([0.0, 3.0]), io.StringIO()
+>>> line = ProgressLine(stream, clock=lambda: next(ticks))
+>>> line.until = "stopped(phi)"
+>>> line(2.169, 1000.0)
+>>> stream.getvalue()
+'\\rmechdyn: t = 2.169 s, until stopped(phi) (at most t = 1000 s)'
 """
 from __future__ import annotations
 
@@ -39,10 +50,13 @@ class ProgressLine:
         self.started = self.clock()
         self.width = 0
         self.label, self.t_start = "", 0.0
+        self.until = ""             # the stop condition that ends the run, if any
 
-    def phase(self, name, number, count, t_start):
-        """A duty cycle's phase ``number`` of ``count`` starts at time ``t_start``."""
+    def phase(self, name, number, count, t_start, until=""):
+        """A duty cycle's phase ``number`` of ``count`` starts at time ``t_start``
+        (``until``: its stop condition)."""
         self.label, self.t_start = f"phase {number}/{count} {name}: ", t_start
+        self.until = until
 
     def __call__(self, t, t_end):
         if self.clock() - self.started < self.delay:
@@ -50,8 +64,12 @@ class ProgressLine:
         begin = self.t_start
         span = t_end - begin
         share = (t - begin) / span if span > 0 else 1.0
-        text = (f"mechdyn: {self.label}t = {t:.4g} s of {t_end:.4g} s "
-                f"({100 * min(max(share, 0.0), 1.0):.0f} %)")
+        if self.until:
+            text = (f"mechdyn: {self.label}t = {t:.4g} s, until {self.until} "
+                    f"(at most t = {t_end:.4g} s)")
+        else:
+            text = (f"mechdyn: {self.label}t = {t:.4g} s of {t_end:.4g} s "
+                    f"({100 * min(max(share, 0.0), 1.0):.0f} %)")
         self.stream.write("\r" + text.ljust(self.width))
         self.stream.flush()
         self.width = max(self.width, len(text))
@@ -72,7 +90,7 @@ class ProgressLine:
 
 
 @contextmanager
-def announce(what, expected, stream=None, delay=1.0, every=5.0):
+def announce(what, expected, stream=None, delay=3.0, every=5.0):
     """Announce a one-time wait on ``stream`` (stderr) once it has lasted ``delay``
     seconds: what happens, the ``expected`` seconds, and the seconds elapsed every
     ``every`` seconds (a numba compilation gives no finer progress; it runs in foreign

@@ -19,7 +19,7 @@ from sympy.core.function import AppliedUndef
 from sympy.printing.conventions import split_super_sub
 
 __all__ = ["t", "coordinate", "coordinates", "speed", "acceleration", "plain",
-           "is_coordinate", "dotted_symbol"]
+           "is_coordinate", "dotted_symbol", "difference", "same"]
 
 t = sp.Symbol("t", real=True)
 
@@ -98,3 +98,64 @@ def plain(expr) -> sp.Symbol:
         if order in (1, 2) and len(expr.variable_count) == 1:
             return dotted_symbol(expr.expr.func.__name__, order)
     raise TypeError(f"{expr!r} is not a coordinate, a speed or an acceleration")
+
+
+# ------------------------------------------------------- comparing with a hand formula
+def difference(derived, formula):
+    """``derived - formula``, simplified, with ``formula`` read as a user writes it: its
+    coordinates, speeds and accelerations (``phi``, ``md.speed(phi)``) stand for their
+    plain symbols, and each symbol for the symbol of the same name in ``derived``
+    whatever its assumptions (``sp.Symbol("phi")`` is the real ``phi`` derived results
+    are written in; ``sp.Symbol("J_1")`` the positive ``J_1`` a mechanism declared).
+    Zero when the two agree; otherwise what is left over. Works on matrices alike.
+
+    >>> import sympy as sp
+    >>> phi, J = sp.Symbol("phi", real=True), sp.Symbol("J", positive=True)
+    >>> derived = J + sp.sin(phi) ** 2
+    >>> sp.simplify(derived - (sp.Symbol("J") + 1 - sp.cos(sp.Symbol("phi")) ** 2)) == 0
+    False
+    >>> difference(derived, sp.Symbol("J") + 1 - sp.cos(sp.Symbol("phi")) ** 2)
+    0
+    >>> difference(derived, J + sp.sin(coordinate("phi")) ** 2 / 2)
+    sin(phi)**2/2
+    """
+    derived, formula = _plain_all(sp.sympify(derived)), _plain_all(sp.sympify(formula))
+    named = {}
+    for symbol in sorted(_symbols(derived), key=str):
+        named.setdefault(symbol.name, symbol)
+    formula = formula.xreplace({symbol: named[symbol.name] for symbol in _symbols(formula)
+                                if symbol.name in named})
+    left = derived - formula
+    if isinstance(left, sp.MatrixBase):
+        return left.applyfunc(_simplest)
+    return _simplest(left)
+
+
+def same(derived, formula) -> bool:
+    """Whether a derived result equals a hand formula, symbols matched by name
+    (:func:`difference` is 0).
+
+    >>> import sympy as sp
+    >>> same(sp.sin(sp.Symbol("phi", real=True)) ** 2, 1 - sp.cos(sp.Symbol("phi")) ** 2)
+    True
+    """
+    left = difference(derived, formula)
+    return bool(left.is_zero_matrix if isinstance(left, sp.MatrixBase) else left == 0)
+
+
+def _symbols(expr) -> set:
+    return {s for s in expr.free_symbols if isinstance(s, sp.Symbol)}
+
+
+def _plain_all(expr):
+    """``expr`` with every coordinate and its derivatives as plain symbols."""
+    derivatives = {d: plain(d) for d in expr.atoms(sp.Derivative)
+                   if is_coordinate(d.expr) and d.variables in ((t,), (t, t))}
+    expr = expr.xreplace(derivatives)
+    return expr.xreplace({q: plain(q) for q in expr.atoms(AppliedUndef) if is_coordinate(q)})
+
+
+def _simplest(expr):
+    if expr == 0 or sp.expand(expr) == 0:
+        return sp.S.Zero
+    return sp.simplify(expr)

@@ -28,7 +28,7 @@ from fractions import Fraction
 
 import numpy as np
 
-from mechdyn.errors import MechdynError
+from mechdyn.errors import MechdynError, did_you_mean
 from mechdyn.parse import ValueTextError, quantity, unit_terms
 
 __all__ = ["UnitError", "Dimension", "DIMENSIONLESS", "to_si", "dimension", "convert",
@@ -153,13 +153,20 @@ def _facts(terms) -> dict:
     """Dimension, SI factor, angle power and flags of unit terms, remembered in memory
     and in the cache folder (pint is imported only for units never seen before)."""
     key = "*".join(f"{name}^{power}" for name, power in terms)
-    if key in _KNOWN:
-        return _KNOWN[key]
-    _load_disk()
+    if key not in _KNOWN:
+        _load_disk()
     if key not in _KNOWN:
         _KNOWN[key] = _facts_from_pint(terms)
         _save_disk()
+    if "number_" in _KNOWN[key]["reads"]:        # pint: "Nm" is number_meter, 1e-9 m
+        raise UnitError(f"{_text(terms)!r} would be read as {_KNOWN[key]['reads']} "
+                        "(pint's reading), not newton metres: write N*m (or kN*m)")
     return _KNOWN[key]
+
+
+_COMMON = ("rpm", "rps", "rad", "deg", "degree", "rev", "turn", "N", "kN", "MN", "kg", "g",
+           "t", "m", "mm", "cm", "km", "s", "ms", "min", "h", "W", "kW", "MW", "J", "kJ", "Pa",
+           "kPa", "MPa", "GPa", "bar", "Hz")       # suggested first for a misspelt unit
 
 
 def _facts_from_pint(terms) -> dict:
@@ -169,7 +176,8 @@ def _facts_from_pint(terms) -> dict:
         try:
             unit = unit * reg.Unit(name) ** power
         except Exception:           # pint's UndefinedUnitError and parse errors
-            raise UnitError(f"unknown unit {name!r}") from None
+            hint = did_you_mean(name, _COMMON) or did_you_mean(name, list(reg._units))
+            raise UnitError(f"unknown unit {name!r}{hint}") from None
     base = reg.Quantity(1.0, unit).to_base_units()
     if reg.Quantity(0.0, unit).to_base_units().magnitude != 0:
         raise UnitError(f"{_text(terms)} has an offset (like degC); give such values in "

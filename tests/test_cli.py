@@ -48,16 +48,18 @@ def test_help_lists_every_command_with_examples_and_exit_codes(capsys):
 
 def test_models_lists_the_bundled_models_with_scenes_and_descriptions(capsys, monkeypatch):
     monkeypatch.chdir(ROOT)
-    status, out, _ = run(capsys, "models")
+    status, out, _ = run(capsys, "models")                  # bundled: by name
     assert status == 0
-    assert "models/shoe_brake.py  Shoe brake (worked example 1): a disc braked by a " \
+    assert "\nshoe_brake  Shoe brake (worked example 1): a disc braked by a " \
            "lever-pressed shoe." in out
     assert "scenes: braking" in out and "scenes: startup, braking" in out
+    status, out, _ = run(capsys, "models", "models")        # a folder: by path
+    assert status == 0 and "models/shoe_brake.py  Shoe brake" in out
 
 
-def test_models_without_a_models_folder_says_so_in_one_line(capsys, tmp_path, monkeypatch):
+def test_models_of_a_missing_folder_says_so_in_one_line(capsys, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
-    status, out, err = run(capsys, "models")
+    status, out, err = run(capsys, "models", "models")
     assert status == 2 and out == ""
     assert err.count("\n") == 1 and "no folder models in" in err and "mechdyn models DIR" in err
 

@@ -143,6 +143,20 @@ def press():
     return model, md.duty_cycle(model, "startup+steady+braking+hold")
 
 
+def test_press_cycle_summary_shows_values_at_rest_as_zero(press):
+    # The braking phase ends at stopped(phi): the flywheel is at rest, its speed and
+    # kinetic energy are 0, not rounding residue (-7.8e-16 rad/s, 1e-28 J); the ram's
+    # potential energy at the start and the workpiece's force after the stroke are 0,
+    # not "-0".
+    _, cycle = press
+    text = re.sub(r"\(balance [^)]*\)", "", cycle.summary())   # the balance is a residue
+    braking = text.split("phase 3")[1].split("phase 4")[0]
+    assert re.search(r"speed [1-9][\d.]* -> 0, peak", braking)
+    assert re.search(r"T [1-9][\d.]* kJ -> 0 J", braking)
+    assert not re.search(r"(?<![\w.])-0(?![.\d])", text), text
+    assert not re.search(r"e-(1[3-9]|[2-9]\d)\b", text), text
+
+
 def test_press_cycle_by_hand(press):
     model, cycle = press
     phi = model.mechanism.coordinates[0]

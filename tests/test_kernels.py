@@ -14,6 +14,7 @@ from scipy.linalg import expm
 
 import mechdyn as md
 from mechdyn import kernels as mk
+from mechdyn.simulate.error_control import guarded
 
 METHODS = [mk.DOP853, mk.RODAS5P]
 TIGHT = dict(rtol=1e-10, atol=1e-12)
@@ -336,7 +337,12 @@ def test_dop853_agrees_with_scipy_dop853_on_a_nonlinear_crank():
     mine = np.max(np.abs(mk.dense_values(chunk.ts, chunk.coefs, times) - tight.sol(times).T))
     theirs = np.max(np.abs(scipy_run.sol(times).T - tight.sol(times).T))
     assert mine < 1e-6 and mine <= 1.25 * theirs
-    assert abs(len(chunk.ts) - len(scipy_run.t)) <= 0.05 * len(scipy_run.t)
+    # the step count against scipy's DOP853 under the kernel's error control (its
+    # estimate floored at a tenth of the 5th-order one, the blind guard): more steps than
+    # scipy's own where Hairer's blend flatters the step (docs/hard-cases.md)
+    same_control = solve_ivp(f, (0.0, 5.0), [0.0, 0.0], method=guarded("DOP853"),
+                             rtol=1e-10, atol=1e-12)
+    assert abs(len(chunk.ts) - len(same_control.t)) <= 0.05 * len(same_control.t)
 
 
 def test_rodas5p_agrees_with_scipy_radau_on_robertson_kinetics():

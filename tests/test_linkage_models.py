@@ -95,7 +95,7 @@ def test_linkage_command_reports_and_draws(capsys, tmp_path):
         "--omega", "30", "--drive", "motor", "--forces", str(forces), "--points", "91"])
     out = capsys.readouterr().out
     assert status == 0
-    assert "Grashof: crank-rocker" in out and "the crank turns fully" in out
+    assert "class: crank-rocker" in out and "the crank turns fully" in out
     assert "transmission angle:" in out and "joint B (revolute): peak force" in out
     assert figure.stat().st_size > 10_000 and forces.stat().st_size > 10_000
 

@@ -25,23 +25,14 @@ def oscillator():
     return mech
 
 
-def stop_time(condition, q0, u0):
+def stop_time(condition, q0, u0, backend=None):
     scene = md.Scene("run", initial={q: q0, md.speed(q): u0}, until=condition, t_end=10)
-    res = oscillator().simulate(scene, {})
+    res = oscillator().simulate(scene, {}, backend=backend)
     assert res.reason == repr(condition)
     return res.t_end
 
 
 cos_t, minus_cos_t = sp.cos(md.t), -sp.cos(md.t)
-
-# mechdyn bug (found reconciling issue 20 with the segment driver): a stop condition of t
-# alone is evaluated only at the ends of the solver's steps, and nothing bounds the step
-# by it. With the state at rest the error estimate is zero, the steps grow tenfold
-# (1.1 s -> 10 s) and skip the first crossings; Illinois then locates a later one.
-TIME_ONLY_SKIPPED = pytest.mark.xfail(strict=True, reason=(
-    "mechdyn bug: a stop condition of t alone is checked only at step ends and does not "
-    "bound the step (segments.py scipy_runner: max_step only for stuck segments; "
-    "generate.py _forcing_periods ignores stop conditions); crossings are skipped"))
 
 # (expression, initial state giving q = that expression, direction, expected stop time)
 FROM_ABOVE = [(+1, 5 * math.pi / 3), (-1, math.pi / 3), (0, math.pi / 3)]
@@ -67,25 +58,25 @@ def test_coordinate_starting_below_the_value_stops_at_the_crossing_in_its_direct
 
 
 def _time_only_cases():
-    # cos t: the first (falling) crossing at pi/3 comes before the solver's long steps
-    # start; every case whose crossing comes later is skipped today, except the rising
-    # cos t at 5 pi/3, which the compiled kernels (the default backend) see at a step's
-    # midpoint sample.
+    # A system at rest: the solver's steps grow to the whole run (nothing bounds them);
+    # the crossings of a condition of t alone are solved without the steps.
     for name, expression, crossings in (("cos t", cos_t, FROM_ABOVE),
                                         ("-cos t", minus_cos_t, FROM_BELOW)):
         for direction, expected in crossings:
-            seen = (name, direction) == ("cos t", +1)
-            marks = [TIME_ONLY_SKIPPED] if expected > 1.2 and not seen else []
-            yield pytest.param(expression, direction, expected, marks=marks,
+            yield pytest.param(expression, direction, expected,
                                id=f"{name} direction {direction:+d}")
 
 
+BACKENDS = ["scipy", "compiled"]
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
 @pytest.mark.parametrize("expression, direction, expected", list(_time_only_cases()))
 def test_expression_of_time_stops_at_the_crossing_in_its_direction(
-        expression, direction, expected):
+        expression, direction, expected, backend):
     # The condition need not involve the state: an expression of md.t alone, integrated
     # alongside a system at rest.
-    assert stop_time(md.reaches(expression, 0.5, direction=direction), 0, 0) == \
+    assert stop_time(md.reaches(expression, 0.5, direction=direction), 0, 0, backend) == \
         pytest.approx(expected, rel=1e-8)
 
 
@@ -99,10 +90,11 @@ def test_condition_met_at_the_start_stops_at_its_next_crossing(direction, expect
         pytest.approx(expected, rel=1e-8)
 
 
-@pytest.mark.parametrize("direction, expected", [      # pi: seen at a midpoint sample
-    pytest.param(+1, 2 * math.pi, marks=TIME_ONLY_SKIPPED), (-1, math.pi)])
-def test_expression_of_time_met_at_the_start_stops_at_its_next_crossing(direction, expected):
-    assert stop_time(md.reaches(sp.sin(md.t), 0, direction=direction), 0, 0) == \
+@pytest.mark.parametrize("backend", BACKENDS)
+@pytest.mark.parametrize("direction, expected", [(+1, 2 * math.pi), (-1, math.pi)])
+def test_expression_of_time_met_at_the_start_stops_at_its_next_crossing(direction, expected,
+                                                                        backend):
+    assert stop_time(md.reaches(sp.sin(md.t), 0, direction=direction), 0, 0, backend) == \
         pytest.approx(expected, rel=1e-8)
 
 

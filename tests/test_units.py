@@ -2,6 +2,7 @@
 contribution, display units (rpm in and out)."""
 import math
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -240,8 +241,10 @@ def test_display_units_in_summary_csv_and_plot(tmp_path):
     assert f"speed final {final_rpm:.6g}" in text and " rpm" in text
     peak_time, peak_power = result.peak("power:motor")      # from the dense output
     assert peak_power >= np.max(np.abs(result["power:motor"]))   # at least the step points'
-    assert f"power:motor: peak {peak_power / 1000:.6g} kW" in text
-    assert "motor: peak 200 N*m" in text
+    power = next(line for line in text.splitlines() if "power:motor:" in line)
+    assert power.startswith(f"  power:motor: peak {peak_power / 1000:.6g}, final ")
+    assert power.endswith(" kW")                        # the unit once, after both
+    assert re.search(r"\n  motor: peak 200, final [0-9.e+-]+ N\*m\n", text)
     path = tmp_path / "run.csv"
     result.to_csv(path, units="speed=rpm,motor=kN*m")
     header = path.read_text().splitlines()[0].split(",")
@@ -249,3 +252,13 @@ def test_display_units_in_summary_csv_and_plot(tmp_path):
     assert "motor [kN*m]" in header and "power:motor [W]" in header
     with pytest.raises(md.MechdynError, match="neither a kind"):
         result.summary(units={"sped": "rpm"})
+
+
+@pytest.mark.parametrize("text", ["3 Nm", "3 kNm", "3 Nm", "3 kNm"])   # twice: remembered
+def test_newton_metres_written_nm_are_refused_not_read_as_a_length(text):
+    # pint reads "Nm" as number_meter (a length, 1e-9 m): "3 Nm" was 3e-9 silently,
+    # "3 kNm" 3e6 with no unit expected. An engineer writing Nm means N*m.
+    with pytest.raises(md.UnitError, match="N\\*m"):
+        md.to_si(text)
+    with pytest.raises(md.UnitError, match="N\\*m"):
+        md.to_si(text, "N*m")

@@ -217,8 +217,9 @@ def test_latex_derivation_of_scotch_yoke():
     assert "J_{1A}" in text and "m_{3}" in text                   # subscripts
     lines = {line.split("&=")[0].strip(): line for line in text.splitlines() if "&=" in line}
     assert "T" in lines
-    inertia = lines["I_{\\mathrm{red}}"]
-    assert "J_{1A}" in inertia and "m_{3}" in inertia and "\\sin" in inertia
+    inertia = lines["I_{\\mathrm{red}}"]         # in the named transmission function
+    assert inertia.endswith("J_{1A} + m_{3} \\left(x_{\\text{yoke}}^{\\prime}\\right)^{2} \\\\")
+    assert "\\sin" in lines["x_{\\text{yoke}}^{\\prime}"]
     moment = lines["M_{\\mathrm{red}}"]
     assert "F_{3}" in moment and "M_{1}" in moment
     assert any("\\frac{d I_{\\mathrm{red}}}{d \\phi}" in key for key in lines)
@@ -259,13 +260,19 @@ def test_cli_equations_text(capsys):
     J1A, m3, l, M1, F3 = sp.symbols("J_1A m_3 l M_1 F_3", positive=True)
     phi = sp.Symbol("phi")
     names = {"J_1A": J1A, "m_3": m3, "l": l, "M_1": M1, "F_3": F3, "phi": phi}
-    found = {}
-    for line in out.splitlines():
-        for label, key in (("I_red =", "inertia"), ("M_red =", "moment")):
-            if line.strip().startswith(("reduced inertia:", "reduced moment:")) and label in line:
-                found[key] = sp.parse_expr(line.split(label)[1], local_dict=names)
-    assert is_zero(found["inertia"] - (J1A + m3 * l**2 * sp.sin(phi) ** 2))
-    assert is_zero(found["moment"] - (M1 - F3 * l * sp.sin(phi)))
+    found, defined = {}, []
+    for line in out.splitlines():     # primes read as _p: x_yoke' -> x_yoke_p
+        label, _, rest = line.strip().replace("'", "_p").partition(": ")
+        if label in ("position", "transmission function", "reduced inertia",
+                     "reduced moment"):
+            name, _, expr = rest.strip().partition(" = ")
+            found[name] = sp.parse_expr(expr, local_dict=names)
+            defined.append(name)
+    named = {sp.Symbol(name): expr for name, expr in found.items()
+             if name not in ("I_red", "M_red")}
+    assert defined == ["x_yoke", "x_yoke_p", "x_yoke_p_p", "I_red", "M_red"]  # each once
+    assert is_zero(found["I_red"].subs(named) - (J1A + m3 * l**2 * sp.sin(phi) ** 2))
+    assert is_zero(found["M_red"].subs(named) - (M1 - F3 * l * sp.sin(phi)))
 
 
 def test_cli_missing_model_names_the_file(capsys, tmp_path):

@@ -65,6 +65,10 @@ class OperatingPoint:
     def __str__(self):
         return self.describe()
 
+    def __repr__(self):
+        return (f"{'stable' if self.stable else 'unstable'} at {self.speed:.6g} rad/s, "
+                f"{self.moment:.6g} N*m")
+
 
 @dataclass
 class Characteristic:

@@ -113,7 +113,8 @@ def duty_cycle(model, phases, params=None, *, progress=None, max_wall_time=None)
                                            end_state, done[-1])
         offset = 0.0 if k == 0 else clock - scene.t_start
         if hasattr(progress, "phase"):
-            progress.phase(names[k], k + 1, len(chosen), offset + scene.t_start)
+            progress.phase(names[k], k + 1, len(chosen), offset + scene.t_start,
+                           " or ".join(map(repr, scene.until)))
         shifted = None if progress is None else \
             (lambda t, t_end, offset=offset: progress(t + offset, t_end + offset))
         try:

@@ -39,11 +39,14 @@ class PhaseEnergy:
         return change - sum(self.work.values())
 
     def __str__(self):
+        from mechdyn.display import tidy
+        every = [*self.kinetic, *self.potential, *self.work.values()]
+        scale = max(abs(value) for value in every)       # a value within rounding: 0
+        t0, t1, v0, v1, *works = tidy(every, scale).tolist()
         work = ", ".join(f"{name} {_joules(value, sign=True)}" for name, value in
-                         self.work.items()) or "none"
-        return (f"T {_joules(self.kinetic[0])} -> {_joules(self.kinetic[1])}, V "
-                f"{_joules(self.potential[0])} -> {_joules(self.potential[1])}; work: "
-                f"{work} (balance {self.residual:.2g} J)")
+                         zip(self.work, works)) or "none"
+        return (f"T {_joules(t0)} -> {_joules(t1)}, V {_joules(v0)} -> {_joules(v1)}; "
+                f"work: {work} (balance {self.residual:.2g} J)")
 
 
 class Phase:
@@ -281,10 +284,11 @@ class CycleResult:
         """Per phase: time span and why it ended, each coordinate's travel, speed at
         start and end and peak, each output's peak and end value, the energy (T, V and
         the work of each element), the events; then the cost."""
-        from mechdyn.display import Display, column_units, cost_line
+        from mechdyn.display import Display, column_units, cost_line, tidy
         shown, si = Display(units), column_units(self)
         shown.check(si)
         n = len(self.coordinates)
+        scale = {key: np.max(np.abs(self[key])) for key in self.state_names}
         lines = [f"{self.mechanism_name} — duty cycle {self.name}: {len(self.phases)} "
                  f"phases, t = {self.t[0]:.6g} ... {self.t_end:.6g} s ({self.reason})"]
         for p in self.phases:
@@ -292,16 +296,15 @@ class CycleResult:
             lines.append(f"  phase {p.number} {p.name!r}: t = {p.start:.6g} ... "
                          f"{p.end:.6g} s ({p.reason})")
             for i, c in enumerate(self.coordinates):
-                (a, b), unit = shown.values(c, si[c], r.y[i][[0, -1]])
+                (a, b), unit = shown.values(c, si[c], tidy(r.y[i][[0, -1]], scale[c]))
                 speed = self.state_names[n + i]
-                values, speed_unit = shown.values(
-                    speed, si[speed], np.array([r.y[n + i][0], r.y[n + i][-1],
-                                                p.peak(speed)[1]]))
+                values, speed_unit = shown.values(speed, si[speed], tidy(
+                    [r.y[n + i][0], r.y[n + i][-1], p.peak(speed)[1]], scale[speed]))
                 lines.append(f"    {c}: {a:.6g} -> {b:.6g} {unit}; speed {values[0]:.6g} "
                              f"-> {values[1]:.6g}, peak {values[2]:.6g} {speed_unit}")
             for label in p.output_labels:
-                values, unit = shown.values(label, si.get(label, ""),
-                                            np.array([p.peak(label)[1], r.outputs[label][-1]]))
+                values, unit = shown.values(label, si.get(label, ""), tidy(
+                    [p.peak(label)[1], r.outputs[label][-1]]))
                 unit = f" {unit}" if unit else ""
                 lines.append(f"    {label}: peak {values[0]:.6g}{unit}, end "
                              f"{values[1]:.6g}{unit}")

@@ -6,7 +6,7 @@ forces (numbers for the parameters given) and walks the independent coordinate: 
 position is solved by Newton's method with the analytic constraint Jacobian, warm-started
 from the previous one with a second-order predictor (``q + q' d phi + q'' d phi^2 / 2``),
 and the step is halved where Newton fails or the solution jumps, so one assembly branch
-is kept. Speeds and accelerations follow by implicit differentiation
+is kept, through change points too (:mod:`mechdyn.analyse.linkage_walk`). Speeds and accelerations follow by implicit differentiation
 (:mod:`mechdyn.derive.transmission`): ``q' = S``, ``G_d q_d'' = -bias(q, q')``.
 
 >>> import sympy as sp, mechdyn as md
@@ -35,12 +35,6 @@ from mechdyn.compile.linkage_code import LinkageFunctions
 from mechdyn.symbols import is_coordinate, t
 
 __all__ = ["Linkage", "LinkageError", "CrankSweep", "Singularity", "Grashof", "grashof"]
-
-_NEWTON_STEPS = 30
-_TOLERANCE = 1e-14          # |g| relative to the loop size
-_JUMP = 0.2                 # largest Newton correction of a continuation step (rad, m)
-_MAX_STEP = 0.25            # largest continuation step of the independent coordinate
-_MIN_STEP = 1e-13           # smallest step (relative): the loops close no further
 
 
 class LinkageError(MechdynError, ValueError):
@@ -105,9 +99,12 @@ class Linkage:
         default: the scene's initial values, else zero.
     scene : Scene, optional
         Selects the loads for the reduced moment; its initial values are the guess.
+    guess_at : float or sequence, optional
+        The independent coordinate(s) the guess belongs to (default: those in ``guess``,
+        else the scene's initial values, else zero): the linkage is assembled there.
     """
 
-    def __init__(self, mechanism, params=None, guess=None, scene=None):
+    def __init__(self, mechanism, params=None, guess=None, scene=None, guess_at=None):
         self.mechanism = mechanism
         self.eqs = eqs = mechanism.equations(scene)
         if not eqs.constraints:
@@ -123,10 +120,10 @@ class Linkage:
         self.functions = LinkageFunctions(eqs)
         self.p = self.functions.parameter_vector(params or {})
         self.params = dict(params or {})
-        self._last = self._start(guess, scene)
+        self._last = self._start(guess, scene, guess_at)
 
     # ------------------------------------------------------------- positions
-    def _start(self, guess, scene):
+    def _start(self, guess, scene, guess_at):
         q = np.zeros(self.n)
         values = dict(scene.initial) if scene is not None else {}
         values.update(guess or {})
@@ -134,44 +131,19 @@ class Linkage:
             name = key.func.__name__ if is_coordinate(key) else str(key)
             if name in self.names:
                 q[self.names.index(name)] = float(value)
+        if guess_at is not None:
+            at = np.atleast_1d(np.asarray(guess_at, dtype=float))
+            if at.shape != (len(self.independent),) or not np.all(np.isfinite(at)):
+                raise LinkageError(f"guess_at = {guess_at!r}: give one finite value for "
+                                   "each independent coordinate ("
+                                   f"{', '.join(self.names[i] for i in self.independent)})")
+            q[self.independent] = at
         return q
 
     def closure(self, q):
         """``(g, G)``: the loop residuals and their Jacobian at the positions ``q``."""
         v = self.functions.closure(0.0, np.concatenate([q, np.zeros(self.n)]), self.p)
         return np.array(v[:self.m]), np.array(v[self.m:]).reshape(self.m, self.n)
-
-    def _newton(self, q, damped=False):
-        """Close the loops from ``q`` moving the dependent coordinates; None if it fails.
-        Near a solution (continuation) a step must halve the residual, else the toggle
-        is near; ``damped`` (from a user's guess) halves steps until the residual falls."""
-        q = np.array(q, dtype=float)
-        g, grads = self.closure(q)
-        tolerance = _TOLERANCE * max(float(np.abs(grads).max()), 1e-300) * \
-            (1 + float(np.abs(q).max()))
-        residual = float(np.abs(g).max())
-        for _ in range(4 * _NEWTON_STEPS if damped else _NEWTON_STEPS):
-            if residual <= tolerance:
-                return q
-            try:
-                step = np.linalg.lstsq(grads[:, self.dependent], g, rcond=None)[0] if damped \
-                    else np.linalg.solve(grads[:, self.dependent], g)
-            except np.linalg.LinAlgError:
-                return None
-            previous = residual
-            for _ in range(30 if damped else 1):
-                trial = q.copy()
-                trial[self.dependent] -= step
-                g, grads = self.closure(trial)
-                residual = float(np.abs(g).max())
-                if residual < previous or not damped:
-                    break
-                step = step / 2
-            q = trial
-            if not np.isfinite(residual) or (not damped and not residual < 0.5 * previous
-                                               and residual > 1e3 * tolerance):
-                return None          # not converging quadratically: near a toggle
-        return q if residual <= 1e3 * tolerance else None
 
     def position(self, phi):
         """All coordinates at the independent value(s) ``phi``, continued from the last
@@ -188,45 +160,12 @@ class Linkage:
         self._last = q
         return q
 
-    def _walk(self, q, target):
-        """Continue from ``q`` to the independent values ``target``. Returns the
-        positions there (or None) and the last independent values reached."""
-        start = self._newton(q, damped=True)
-        if start is None:
-            return None, q[self.independent]
-        q = start
-        step = np.full(len(self.independent), _MAX_STEP)
-        while np.max(np.abs(target - q[self.independent])) > 0:
-            step = np.sign(target - q[self.independent]) * np.minimum(
-                np.abs(step), np.abs(target - q[self.independent]))
-            predicted = self._predict(q, step)
-            solved = self._newton(predicted) if predicted is not None else None
-            if solved is not None and np.max(np.abs(solved - predicted)) <= _JUMP:
-                q = solved
-                step = np.minimum(2 * np.abs(step), _MAX_STEP)
-                continue
-            step = step / 2
-            if np.max(np.abs(step)) < _MIN_STEP * (1 + np.max(np.abs(target))):
-                return None, q[self.independent]
-        return q, q[self.independent]
-
-    def _predict(self, q, step):
-        """Second-order predictor ``q + S step + q'' step^2 / 2`` (first order for
-        several independent coordinates)."""
-        try:
-            matrix = self.velocity_matrix(q)
-        except np.linalg.LinAlgError:
-            return None
-        first = matrix @ step
-        predicted = q + first
-        if len(self.independent) == 1:
-            predicted = predicted + self._second(q, matrix[:, 0]) * step[0] ** 2 / 2
-        predicted[self.independent] = q[self.independent] + step
-        return predicted
-
     # -------------------------------------------------------------- derivatives
     def velocity_matrix(self, q):
-        """``S`` (n x k) at the closed positions ``q``: ``u = S u_i``."""
+        """``S`` (n x k) at the closed positions ``q``: ``u = S u_i`` (by implicit
+        differentiation: at a change point, where the loops do not determine it, use
+        :meth:`derivatives`, :meth:`state` or :meth:`sweep`: the limits along the
+        branch)."""
         _, grads = self.closure(q)
         k = len(self.independent)
         matrix = np.zeros((self.n, k))
@@ -255,8 +194,7 @@ class Linkage:
         """Positions, speeds and accelerations of all coordinates for the crank at
         ``phi`` turning at ``omega`` with acceleration ``eps`` (one-DOF)."""
         q = self.position(phi)
-        ratio = self.velocity_matrix(q)[:, 0]
-        second = self._second(q, ratio)
+        ratio, second = self.derivatives(q)
         return q, ratio * omega, ratio * eps + second * omega ** 2
 
     def sweep(self, phi) -> CrankSweep:
@@ -269,8 +207,7 @@ class Linkage:
         inertia, slope = np.zeros(len(phi)), np.zeros(len(phi))
         for j, value in enumerate(phi):
             q[:, j] = self.position(value)
-            ratio[:, j] = self.velocity_matrix(q[:, j])[:, 0]
-            second[:, j] = self._second(q[:, j], ratio[:, j])
+            ratio[:, j], second[:, j] = self.derivatives(q[:, j])
             inertia[j], slope[j] = self._inertia(q[:, j], ratio[:, j], second[:, j])
         return CrankSweep(phi, q, ratio, second, inertia, slope, self.names)
 
@@ -339,15 +276,22 @@ class Linkage:
         from mechdyn.analyse.linkage_plots import plot_linkage
         return plot_linkage(self, path, points, paths)
 
-    # Analyses in their own module, bound here: singularities, ranges, four-bars.
-    from mechdyn.analyse.linkage_limits import (coupler_curve, crank_range, describe,  # noqa: E402
+    # The continuation and the analyses in their own modules, bound here.
+    from mechdyn.analyse.linkage_walk import (_newton, _predict, _walk,  # noqa: E402
+                                              derivatives, margin)
+    from mechdyn.analyse.linkage_limits import (coupler_curve, crank_range,  # noqa: E402
                                  extremes, grashof, singularities, transmission_angle)
+    from mechdyn.analyse.linkage_describe import describe  # noqa: E402
 
 
 @dataclass(frozen=True)
 class Grashof:
-    """Grashof's classification of a four-bar: ``kind`` in words, ``grashof`` (s + l
-    < p + q: some link turns fully), ``change_point`` (s + l = p + q), the link lengths
+    """Grashof's classification of a four-bar: ``kind`` in words ("crank-rocker",
+    "double-crank (drag link)", "double-rocker (Grashof)", "rocker-crank",
+    "triple-rocker (non-Grashof)"; at s + l = p + q: "parallelogram",
+    "anti-parallelogram" (the branch, from a linkage), "deltoid (kite)" or e.g.
+    "crank-rocker with change points"), ``grashof`` (s + l
+    <= p + q: some link turns fully), ``change_point`` (s + l = p + q), the link lengths
     ``shortest``, ``longest`` and which link is shortest, ``crank_turns`` (the input link
     makes full turns)."""
     kind: str
@@ -369,6 +313,8 @@ def grashof(ground, crank, coupler, rocker, tolerance=1e-12) -> Grashof:
     'crank-rocker (ground 3, crank 1, coupler 3, rocker 2.5; shortest: crank)'
     >>> grashof(2, 3, 3.5, 5).kind
     'triple-rocker (non-Grashof)'
+    >>> grashof(3, 1, 3, 1).kind, grashof(3, 3, 1, 1).kind    # s + l = p + q
+    ('parallelogram or anti-parallelogram', 'deltoid (kite)')
     """
     lengths = {"ground": abs(float(ground)), "crank": abs(float(crank)),
                "coupler": abs(float(coupler)), "rocker": abs(float(rocker))}
@@ -383,5 +329,10 @@ def grashof(ground, crank, coupler, rocker, tolerance=1e-12) -> Grashof:
     kind = {"ground": "double-crank (drag link)", "crank": "crank-rocker",
             "coupler": "double-rocker (Grashof)", "rocker": "rocker-crank"}[shortest]
     if change:
-        kind = "change point: " + kind
+        near = lambda x, y: abs(lengths[x] - lengths[y]) <= tolerance * ordered[3]  # noqa
+        kind = ("parallelogram or anti-parallelogram" if near("crank", "rocker") and
+                near("coupler", "ground") else "deltoid (kite)" if
+                (near("crank", "coupler") and near("rocker", "ground")) or
+                (near("crank", "ground") and near("coupler", "rocker")) else
+                f"{kind} with change points")
     return Grashof(kind, True, change, shortest, lengths, shortest in ("ground", "crank"))

@@ -25,14 +25,52 @@ quick-return time ratio.
 """
 from __future__ import annotations
 
+from dataclasses import replace
+from functools import wraps
+from itertools import combinations
+
 import numpy as np
 import sympy as sp
 from scipy.optimize import brentq, minimize_scalar, root
 
-__all__ = ["singularities", "crank_range", "extremes", "grashof", "transmission_angle",
-           "coupler_curve", "describe"]
+from mechdyn.analyse.linkage_walk import CHANGE_POINT, _weakest_row
+from mechdyn.errors import MechdynError
 
-_CHANGE_POINT = 1e-7         # sigma_min / sigma_max of G below this: a change point
+__all__ = ["singularities", "crank_range", "extremes", "grashof", "transmission_angle",
+           "coupler_curve", "branch_sweep", "is_constant", "answers"]
+
+_SUSPECT = 0.5              # a local minimum of the rank margin below this is refined
+
+
+def answers(what):
+    """Decorate an analysis: a library's error inside it (scipy's, numpy's) becomes a
+    :class:`~mechdyn.analyse.linkage.LinkageError` naming ``what`` it could not
+    determine; mechdyn's own errors pass.
+
+    >>> @answers("the toggle")
+    ... def toggle(self):
+    ...     raise ValueError("no sign change")
+    >>> class Machine:
+    ...     mechanism = type("Mechanism", (), {"name": "press"})
+    >>> try:
+    ...     toggle(Machine())
+    ... except MechdynError as error:
+    ...     print(type(error).__name__, error)
+    LinkageError 'press': the toggle could not be determined (ValueError: no sign change)
+    """
+    def wrap(function):
+        @wraps(function)
+        def analysis(self, *args, **kwargs):
+            from mechdyn.analyse.linkage import LinkageError
+            try:
+                return function(self, *args, **kwargs)
+            except MechdynError:
+                raise
+            except (ArithmeticError, ValueError, RuntimeError, np.linalg.LinAlgError) as error:
+                raise LinkageError(f"{self.mechanism.name!r}: {what} could not be "
+                                   f"determined ({type(error).__name__}: {error})") from None
+        return analysis
+    return wrap
 
 
 def _limit(self, q_good, phi_good, phi_bad):
@@ -88,6 +126,7 @@ def _scan(self, start, span, points):
     return np.array(reached), np.array(positions).T, None
 
 
+@answers("the crank's range")
 def crank_range(self, start=None, points=721):
     """``(low, high)``: the crank angles between which the loops close on this branch,
     or None when the crank turns fully. ``start``: an angle inside the range (default:
@@ -102,6 +141,7 @@ def crank_range(self, start=None, points=721):
     return (backward[0] if backward else forward[0] - 2 * np.pi, forward[0])
 
 
+@answers("the singular positions")
 def singularities(self, start=None, points=721) -> list:
     """Toggle positions (ends of the crank's range) and change points over one crank
     revolution from ``start``, each a :class:`~mechdyn.analyse.linkage.Singularity` naming its
@@ -129,29 +169,51 @@ def singularities(self, start=None, points=721) -> list:
     return unique
 
 
-def _conditioning(self, q):
-    _, grads = self.closure(q)
-    values = np.linalg.svd(grads / np.linalg.norm(grads, axis=1, keepdims=True),
-                           compute_uv=False)
-    return values[-1] / values[0]
-
-
 def _change_points(self, angles, positions):
-    """Crank angles where ``G`` (all coordinates) nearly loses rank along a walk."""
-    ratio = np.array([_conditioning(self, positions[:, j]) for j in range(len(angles))])
+    """Crank angles where ``G`` (all coordinates) loses rank along a walk: local minima
+    of its rank margin, each refined (:func:`_crossing`) and kept where the margin
+    vanishes there."""
+    ratio = np.array([self.margin(positions[:, j]) for j in range(len(angles))])
     out = []
     for j in range(1, len(angles) - 1):
-        if ratio[j] <= ratio[j - 1] and ratio[j] <= ratio[j + 1] and ratio[j] < 1e-2:
-            def measure(value, q=positions[:, j - 1]):
-                reached, _ = self._walk(q, np.array([value]))
-                return 1.0 if reached is None else _conditioning(self, reached)
-            low, high = sorted((angles[j - 1], angles[j + 1]))
-            best = minimize_scalar(measure, bounds=(low, high), method="bounded",
-                                   options={"xatol": 1e-12})
-            if best.fun < _CHANGE_POINT:
-                q, _ = self._walk(positions[:, j - 1], np.array([best.x]))
-                out.append((float(best.x), _locking_row(self, q)))
+        if ratio[j] < ratio[j - 1] and ratio[j] <= ratio[j + 1] and ratio[j] < _SUSPECT:
+            angle, q = _crossing(self, positions[:, j - 1], angles[j - 1], angles[j + 1])
+            if q is not None and self.margin(q) < CHANGE_POINT:
+                out.append((angle, _weakest_row(self, q)))
     return out
+
+
+def _crossing(self, q_before, low, high):
+    """The change point between the crank angles ``low`` and ``high`` (walked from
+    ``q_before`` at ``low``): where the largest ``m x m`` minor of ``G`` changes sign,
+    by bisection and then a secant through points 1e-4 rad either side (positions at
+    the change point itself are accurate only to the root of the tolerance); where no
+    minor changes sign, the least rank margin."""
+    def walked(value):
+        return self._walk(q_before, np.array([value]))[0]
+
+    def minors(value):
+        q = walked(value)
+        if q is None:
+            return np.full(1, np.nan)
+        grads = self.closure(q)[1]
+        return np.array([np.linalg.det(grads[:, list(c)]) for c in
+                         combinations(range(self.n), self.m)])
+    ends = minors(low), minors(high)
+    k = int(np.argmax(np.abs(ends[0]))) if np.all(np.isfinite(ends[0])) else 0
+    if len(ends[1]) > k and ends[0][k] * ends[1][k] < 0:
+        root = brentq(lambda v: minors(v)[k], low, high, xtol=1e-6)
+        h = 1e-4
+        left, right = minors(root - h)[k], minors(root + h)[k]
+        if np.isfinite(left) and np.isfinite(right) and left != right:
+            root = root - h + 2 * h * left / (left - right)
+    else:
+        def measure(value):
+            q = walked(value)
+            return 1.0 if q is None else self.margin(q)
+        root = minimize_scalar(measure, bounds=tuple(sorted((low, high))), method="bounded",
+                               options={"xatol": 1e-12}).x
+    return float(root), walked(float(root))
 
 
 def _locking_row(self, q):
@@ -169,17 +231,49 @@ def _locking_row(self, q):
     return int(np.argmin(residuals))
 
 
+@answers("the sweep over the crank's range")
+def branch_sweep(self, start, points=361, limits="find"):
+    """A sweep over one crank revolution from ``start``, or for a crank that cannot turn
+    fully over its range on this branch, 1e-6 of it short of the toggles: walked from
+    ``start`` towards each end (walking away from a toggle could take either branch)."""
+    from mechdyn.analyse.linkage import CrankSweep
+    limits = crank_range(self, start, points) if limits == "find" else limits
+    here = self.position(start)
+    if limits is None:
+        sweep = self.sweep(start + np.linspace(0.0, 2 * np.pi, points))
+    else:
+        margin = 1e-6 * (limits[1] - limits[0])
+        grid = np.linspace(limits[0] + margin, limits[1] - margin, points)
+        down = self.sweep(np.concatenate([[start], grid[grid < start][::-1]]))
+        self._last = here
+        up = self.sweep(grid[grid >= start])
+        parts = [np.concatenate([x[..., :0:-1], y], axis=-1) for x, y in
+                 zip((down.phi, down.q, down.ratio, down.second, down.inertia,
+                      down.inertia_slope), (up.phi, up.q, up.ratio, up.second, up.inertia,
+                                            up.inertia_slope))]
+        sweep = CrankSweep(*parts, self.names)
+    self._last = here
+    return sweep
+
+
+def is_constant(sweep, row):
+    """Whether a coordinate keeps its value over a sweep (a parallelogram's coupler)."""
+    values = sweep.q[row]
+    return bool(np.ptp(values) <= 1e-9 * (1 + np.max(np.abs(values))))
+
+
+@answers("the extreme positions")
 def extremes(self, coordinate, start=None, points=721) -> list:
     """The extreme positions of a dependent coordinate (where ``dq/dphi = 0``): a
     rocker's ends of swing, a slider's dead centres. A list of ``(crank angle, value)``
-    over one revolution from ``start`` (or over the crank's range)."""
+    over one revolution from ``start`` (or over the crank's range on this branch);
+    empty for a coordinate that turns fully or stays constant."""
+    from mechdyn.analyse.linkage import LinkageError
     sweep_start = self._last[self.independent[0]] if start is None else float(start)
-    limits = crank_range(self, sweep_start, points)
-    low, high = limits if limits else (sweep_start, sweep_start + 2 * np.pi)
-    self.position(low + 1e-9 * (high - low) if limits else low)
-    sweep = self.sweep(np.linspace(low, high, points)[1:-1] if limits
-                       else np.linspace(low, high, points))
+    sweep = branch_sweep(self, sweep_start, points)
     row = sweep._row(coordinate)
+    if is_constant(sweep, row):
+        return []
     ratio = sweep.ratio[row]
     small = 1e-12 * max(float(np.max(np.abs(ratio))), 1e-300)
     ratio = np.where(np.abs(ratio) <= small, 0.0, ratio)
@@ -188,14 +282,30 @@ def extremes(self, coordinate, start=None, points=721) -> list:
         if ratio[j] == 0 and (not out or out[-1][0] != sweep.phi[j]) and 0 < j:
             out.append((float(sweep.phi[j]), float(sweep.q[row, j])))
         elif ratio[j] * ratio[j + 1] < 0:
-            def slope(value, j=j):
-                self.position(sweep.phi[j])
-                return self.velocity_matrix(self.position(value))[row, 0]
-            angle = brentq(slope, sweep.phi[j], sweep.phi[j + 1], xtol=1e-14, rtol=1e-15)
-            self.position(sweep.phi[j])
-            out.append((float(angle), float(self.position(angle)[row])))
+            out.append(_turning_point(self, sweep, row, j, coordinate, LinkageError))
     self.position(sweep_start)
     return out
+
+
+def _turning_point(self, sweep, row, j, coordinate, error):
+    """Where ``dq/dphi`` of ``row`` changes sign between sweep points ``j``, ``j + 1``
+    (positions walked from point ``j``, on its branch)."""
+    def walked(value):
+        q, _ = self._walk(sweep.q[:, j], np.array([value]))
+        if q is None:
+            raise error(f"extremes of {coordinate}: the loops do not close at "
+                        f"{self._independent_text(value)} between two positions of the "
+                        "sweep", at=float(value))
+        return q
+    try:
+        angle = brentq(lambda v: self.velocity_matrix(walked(v))[row, 0], sweep.phi[j],
+                       sweep.phi[j + 1], xtol=1e-14, rtol=1e-15)
+    except (ValueError, np.linalg.LinAlgError) as failure:
+        raise error(f"extremes of {coordinate}: the turning point between "
+                    f"{self._independent_text(sweep.phi[j])} and "
+                    f"{self._independent_text(sweep.phi[j + 1])} could not be located "
+                    f"({failure})", at=float(sweep.phi[j])) from None
+    return float(angle), float(walked(angle)[row])
 
 
 def _four_bar(self):
@@ -228,13 +338,22 @@ def _four_bar(self):
 
 
 def grashof(self):
-    """Grashof's classification of a four-bar loop (terms in order around the loop)."""
+    """Grashof's classification of a four-bar loop (terms in order around the loop); a
+    parallelogram's branch at the current position names it or its crossed form."""
     from mechdyn.analyse.linkage import grashof as classify
-    lengths, _, _ = _four_bar(self)
-    return classify(lengths["ground"], lengths["crank"], lengths["coupler"],
-                    lengths["rocker"])
+    lengths, angles, _ = _four_bar(self)
+    found = classify(lengths["ground"], lengths["crank"], lengths["coupler"],
+                     lengths["rocker"])
+    if found.kind.startswith("parallelogram or"):       # the branch decides
+        at = dict(zip(self.eqs.q, self._last))
+        crank, rocker = (lengths[r] * np.exp(1j * float(sp.sympify(angles[r]).xreplace(at)))
+                         for r in ("crank", "rocker"))
+        crossed = abs(crank + rocker) > 1e-6 * max(abs(v) for v in lengths.values())
+        found = replace(found, kind="anti-parallelogram" if crossed else "parallelogram")
+    return found
 
 
+@answers("the transmission angle")
 def transmission_angle(self, sweep, between=None):
     """The transmission angle (rad, 0..pi; 90 deg ideal, 0 or 180 deg at a toggle) at
     each position of a sweep: for a four-bar the interior angle between coupler and
@@ -262,55 +381,3 @@ def _as_function(self, expr):
     """A plain-symbol expression back in the coordinates (functions of t)."""
     back = {sp.Symbol(name): q for name, q in zip(self.names, self.eqs.coordinates)}
     return expr.xreplace(back)
-
-
-def describe(self, points=361) -> str:
-    """A few lines on the linkage over a crank revolution: Grashof's class (four-bars),
-    the crank's range and singular positions, each dependent coordinate's extremes,
-    the range of ``I_red`` and of the transmission angle."""
-    from mechdyn.analyse.linkage import LinkageError
-    from mechdyn.analyse.linkage_plots import revolution
-    crank = self.names[self.independent[0]]
-    lines = [f"{self.mechanism.name}: crank {crank}, dependent "
-             f"{', '.join(self.names[i] for i in self.dependent)}"]
-    deg = np.degrees
-    try:
-        lines.append(f"  Grashof: {grashof(self)}")
-    except LinkageError:
-        pass
-    start = self._last[self.independent[0]]
-    limits = crank_range(self, start, points)
-    found = singularities(self, start, points)
-    lines.append("  the crank turns fully" if limits is None else
-                 f"  crank range {deg(limits[0]):.4f} .. {deg(limits[1]):.4f} deg "
-                 "(beyond it the loops cannot be closed on this branch)")
-    lines += [f"  {item}" for item in found] or ["  no toggle position or change point"]
-    self.position(start)
-    for i in self.dependent:
-        unit = self.mechanism.units.get(self.names[i], "rad")
-        shown = (lambda v: f"{deg(v):.4f} deg") if unit == "rad" else \
-            (lambda v, unit=unit: f"{v:.6g} {unit}")
-        ends = extremes(self, self.names[i], start, points)
-        text = ", ".join(f"{shown(v)} at {crank} = {deg(a):.4f} deg" for a, v in ends)
-        lines.append(f"  {self.names[i]} extremes: {text or 'none (turns fully)'}")
-        if len(ends) == 2 and limits is None:
-            forward = (ends[1][0] - ends[0][0]) % (2 * np.pi)
-            slow, fast = max(forward, 2 * np.pi - forward), min(forward, 2 * np.pi - forward)
-            lines.append(f"    stroke {shown(abs(ends[1][1] - ends[0][1]))}, crank "
-                         f"angles {deg(forward):.4f} / {360 - deg(forward):.4f} deg, time "
-                         f"ratio {slow / fast:.4f}")
-    self.position(start)
-    sweep = revolution(self, points)
-    low, high = np.argmin(sweep.inertia), np.argmax(sweep.inertia)
-    lines.append(f"  I_red: {sweep.inertia[low]:.6g} .. {sweep.inertia[high]:.6g} kg m^2 "
-                 f"(at {crank} = {deg(sweep.phi[low]):.1f}, {deg(sweep.phi[high]):.1f} deg), "
-                 f"mean {np.mean(sweep.inertia[:-1] if limits is None else sweep.inertia):.6g}")
-    try:
-        mu = deg(transmission_angle(self, sweep))
-        worst = int(np.argmax(np.abs(mu - 90)))
-        lines.append(f"  transmission angle: {mu.min():.2f} .. {mu.max():.2f} deg, farthest "
-                     f"from 90 deg at {crank} = {deg(sweep.phi[worst]):.1f} deg")
-    except LinkageError:
-        pass
-    self.position(start)
-    return "\n".join(lines)

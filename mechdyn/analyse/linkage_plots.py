@@ -14,18 +14,9 @@ __all__ = ["revolution", "plot_linkage", "plot_kinetostatics"]
 
 def revolution(linkage, points=361):
     """A sweep over one crank revolution from the current position, or over the
-    crank's range for a crank that cannot turn fully."""
-    start = linkage._last[linkage.independent[0]]
-    limits = linkage.crank_range(start)
-    if limits is None:
-        sweep = linkage.sweep(start + np.linspace(0.0, 2 * np.pi, points))
-    else:
-        low, high = limits
-        margin = 1e-6 * (high - low)
-        linkage.position(low + margin)
-        sweep = linkage.sweep(np.linspace(low + margin, high - margin, points))
-    linkage.position(start)            # back where it was
-    return sweep
+    crank's range on this branch for a crank that cannot turn fully."""
+    from mechdyn.analyse.linkage_limits import branch_sweep
+    return branch_sweep(linkage, linkage._last[linkage.independent[0]], points)
 
 
 def plot_linkage(linkage, path=None, points=361, paths=None):

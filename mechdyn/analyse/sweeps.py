@@ -41,11 +41,8 @@ import itertools
 import math
 import os
 import pickle
-import signal
-import threading
 import time
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -53,6 +50,8 @@ from mechdyn.version import __version__
 from mechdyn.errors import ParameterError
 from mechdyn.declare.parameters import ParameterSet, to_number
 from mechdyn.analyse.sweep_file import MAX_POINTS, TEXT_COLUMNS, SweepError, SweepFile, SweepFileError
+from mechdyn.analyse.sweep_points import (_Job, _load_kernels, _row, _run_points,
+                                          _start_worker)
 
 __all__ = ["sweep", "Sweep", "SweepError", "SweepFileError", "MAX_POINTS", "IN_FLIGHT"]
 
@@ -61,7 +60,6 @@ IN_FLIGHT = 512              # tasks submitted and not yet collected, at most
 HERE_SECONDS = 1.0           # default: points run in the calling process this long first
 BATCH_SECONDS = 0.05         # work per task once the cost of a point is known
 _MAX_BATCH = 64              # points per task, at most
-_PARENT_CHECK = 0.5          # s between a worker's checks that its parent still lives
 
 
 def sweep(mechanism, scene, params, grid, executor=None, out=None, progress=True, *,
@@ -133,12 +131,11 @@ def sweep(mechanism, scene, params, grid, executor=None, out=None, progress=True
                 todo = _run_here(job, todo, table, bar, HERE_SECONDS)
             if todo:
                 _run(job, todo, table, executor or workers, bar)
-            elif bar is not None:
-                bar.close()
         rows = [table.rows[point] for point in points]
     default_y = "t_end" if scene.until else next(
         (c for c in columns if c.startswith("peak:")), f"final:{compiled.state_names[-1]}")
-    return Sweep(names, columns, rows, default_y, out)
+    return Sweep(names, columns, rows, default_y, out,
+                 _column_units(mechanism, scene, compiled, names))
 
 
 class Sweep:
@@ -146,12 +143,19 @@ class Sweep:
 
     ``sweep[column]`` is an array (floats; strings for ``reason`` and ``error``);
     ``rows`` the dicts; ``failed`` the rows whose simulation failed; ``parameters`` the
-    swept names; ``path`` the CSV file (or None).
+    swept names; ``path`` the CSV file (or None); ``units`` the SI unit of each column
+    (``""`` where it has none or it is not known), ``label(column)`` ``"P [N]"``.
     """
 
-    def __init__(self, parameters, columns, rows, default_y, path=None):
+    def __init__(self, parameters, columns, rows, default_y, path=None, units=None):
         self.parameters, self.columns, self.rows = list(parameters), list(columns), rows
         self.default_y, self.path = default_y, path
+        self.units = dict(units or {})
+
+    def label(self, column) -> str:
+        """``column [unit]`` (the values' SI unit), or the column alone."""
+        unit = self.units.get(column, "")
+        return f"{column} [{unit}]" if unit else column
 
     def __len__(self):
         return len(self.rows)
@@ -207,6 +211,26 @@ def _grid_points(grid, compiled, max_points):
     return names, list(itertools.product(*axes))
 
 
+def _column_units(mechanism, scene, compiled, names) -> dict:
+    """The SI unit of the values of each column."""
+    from mechdyn.declare.output_units import output_units
+    from mechdyn.units import dimension, si_factor
+
+    def si(unit):
+        if not unit or si_factor(unit) == 1:
+            return "" if unit == "1" else unit or ""
+        return dimension(unit).si
+    units = {name: si(mechanism.parameter_units.get(name, "")) for name in names}
+    units["t_end"] = "s"
+    n = len(compiled.state_names) // 2
+    for position, speed in zip(compiled.state_names[:n], compiled.state_names[n:]):
+        unit = si(mechanism.units.get(position, "rad"))
+        units[f"final:{position}"], units[f"final:{speed}"] = unit, f"{unit}/s"
+    for label, unit in output_units(mechanism, scene).items():
+        units[f"peak:{label}"] = unit or ""
+    return units
+
+
 def _columns(names, compiled):
     columns = names + ["t_end", "reason"]
     columns += [f"final:{state}" for state in compiled.state_names]
@@ -229,103 +253,22 @@ def _record_of(mechanism, scene, compiled, names, fixed) -> dict:
             "fixed": fixed}
 
 
-# ------------------------------------------------------------------ the workers
-@dataclass(frozen=True)
-class _Job:
-    """What every point needs: pickled once per sweep, unpickled once per worker."""
-    mechanism: object
-    scene: object
-    params: dict
-    names: tuple
-    key: str
-    meta: dict
-    source: str
-
-
-_jobs: dict = {}          # per worker process: digest -> _Job
-
-
-def _install(digest, blob):
-    """Unpickle a job once per worker and hand its generated code to compile_scene's
-    memory cache: no derivation, no compilation, no disk in the worker."""
-    job = _jobs.get(digest)
-    if job is None:
-        job = _jobs[digest] = pickle.loads(blob)
-        from mechdyn.compile import compiler as compile_module
-        compiled = compile_module._memory_cache.setdefault(
-            job.key, compile_module.CompiledScene(job.meta, job.source, job.key))
-        _load_kernels(compiled, job.scene)
-    return job
-
-
-def _start_worker(digest, blob):
-    """A local worker: Ctrl-C is the parent's to handle; end with the parent."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    threading.Thread(target=_end_with_parent, args=(os.getppid(),), daemon=True).start()
-    _install(digest, blob)
-
-
-def _end_with_parent(parent):
-    """Exit as soon as the parent process is gone (killed: we were re-parented)."""
-    while os.getppid() == parent:
-        time.sleep(_PARENT_CHECK)
-    os._exit(1)
-
-
-def _run_points(digest, blob, points):
-    """Simulate a batch of grid points in a worker: their rows, and the time taken."""
-    started = time.perf_counter()
-    job = _install(digest, blob) if blob is not None else _jobs[digest]
-    return [_row(job, point) for point in points], time.perf_counter() - started
-
-
-def _row(job, point) -> dict:
-    """One grid point's row; a failure becomes the row's ``error``."""
-    row = dict(zip(job.names, point))
-    try:
-        result = job.mechanism.simulate(job.scene, {**job.params, **row})
-    except Exception as error:          # recorded in the row; the sweep goes on
-        row["error"] = f"{type(error).__name__}: {error}"
-        return row
-    row.update(t_end=result.t_end, reason=result.reason, error="")
-    for name, values in zip(result.state_names, result.y):
-        row[f"final:{name}"] = float(values[-1])
-    for label, value in _peaks(result, job.meta["output_labels"]).items():
-        row[f"peak:{label}"] = value
-    return row
-
-
-def _peaks(result, labels, points=1001) -> dict:
-    """Each output's value of largest magnitude, found on the step points and
-    ``points`` even times between them (dense output); nothing is evaluated when the
-    scene records no outputs."""
-    if not labels:
-        return {}
-    times = result.t
-    if len(times) > 1:
-        times = np.union1d(np.linspace(times[0], times[-1], points), times)
-    series = result.outputs_at(times)
-    return {label: float(v[np.argmax(np.abs(v))]) for label, v in series.items()}
-
-
-def _load_kernels(compiled, scene):
-    """Compile or load the scene's compiled form once in the calling process (the disk
-    cache then serves every worker), where its runs will use it."""
-    if scene.backend != "scipy":
-        from mechdyn.simulate.methods import uses_kernels
-        uses_kernels(compiled, scene.method)
-
-
 def _run_here(job, todo, table, bar, seconds) -> list:
-    """Run points in the calling process for about ``seconds``: the points left."""
-    started = time.perf_counter()
-    for done, point in enumerate(todo):
-        if time.perf_counter() - started > seconds:
-            return todo[done:]
-        table.add(_row(job, point))
-        if bar is not None:
-            bar.update()
-    return []
+    """Run points in the calling process for about ``seconds``: the points left (the
+    bar is closed when none are left, or on an interruption)."""
+    started, left = time.perf_counter(), []
+    try:
+        for done, point in enumerate(todo):
+            if time.perf_counter() - started > seconds:
+                left = todo[done:]
+                break
+            table.add(_row(job, point))
+            if bar is not None:
+                bar.update()
+    finally:
+        if bar is not None and not left:
+            bar.close()
+    return left
 
 
 def _run(job, todo, table, executor, bar):

@@ -74,8 +74,21 @@ def _param_argument(parser):
                         "'omega_s=1500 rpm'); repeatable")
 
 
+def _display_units(text):
+    """An argparse type: ``KIND=UNIT,...`` whose units are known (checked before any
+    work; a misspelt unit gets a suggestion)."""
+    from mechdyn.display import Display
+    from mechdyn.units import dimension
+    try:
+        for unit in Display(text).choices.values():
+            dimension(unit)
+    except MechdynError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+    return text
+
+
 def _units_argument(parser):
-    parser.add_argument("--units", metavar="KIND=UNIT,...",
+    parser.add_argument("--units", metavar="KIND=UNIT,...", type=_display_units,
                         help="show results in these units: kinds angle, speed, "
                         "acceleration, length, velocity, force, moment, power (or a column "
                         "name), e.g. speed=rpm,power=kW,rope=kN")

@@ -2,7 +2,8 @@
 
     mechdyn equations models/scotch_yoke.py [--format latex|text] [--scene NAME [--solve]]
 
-(``mechdyn linkage``, for closed loops, is in :mod:`mechdyn.cli.linkage`.)
+(``mechdyn linkage``, for closed loops, is in :mod:`mechdyn.cli.linkage`; ``mechdyn fmu``
+in :mod:`mechdyn.cli.fmu`.)
 """
 from __future__ import annotations
 
@@ -64,6 +65,8 @@ def build_parser() -> argparse.ArgumentParser:
     _add_animate_command(commands)
     from mechdyn.cli.linkage import add_linkage_command
     add_linkage_command(commands)
+    from mechdyn.cli.fmu import add_fmu_command
+    add_fmu_command(commands)
     for command in commands.choices.values():
         command.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
                              help="show the traceback of an error")
@@ -129,6 +132,8 @@ def _check_outputs(args):
             continue
         if attribute == "out" and getattr(args, "command", None) == "animate":
             suffixes, what = (".gif",), "an animation"
+        if attribute == "out" and getattr(args, "command", None) == "fmu":
+            suffixes, what = (".fmu",), "an FMU"
         path = Path(value)
         if path.suffix.lower() not in suffixes:
             suffix = f"the suffix {path.suffix!r}" if path.suffix else "no suffix"

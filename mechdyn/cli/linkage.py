@@ -22,6 +22,8 @@ def _linkage(args):
     model = load_model(args.model)
     scene = model.scene(args.scene) if args.scene else next(iter(model.scenes.values()), None)
     params = _params(model, scene, args.param)
+    if args.drive is not None:                          # refused before the analysis
+        _check_drive(model.mechanism, args.drive)
     linkage = Linkage(model.mechanism, params, scene=scene)
     print(linkage.describe(points=args.points))
     if args.plot:
@@ -54,6 +56,17 @@ def _linkage(args):
         result.plot(args.forces)
         print(f"wrote {args.forces}")
     return 0
+
+
+def _check_drive(mechanism, drive):
+    from mechdyn.declare.elements import Load
+    from mechdyn.errors import MechdynError, did_you_mean
+    loads = [e for e in mechanism.elements.values() if isinstance(e, Load)]
+    names = [e.name for e in loads] + sorted({tag for e in loads for tag in e.tags})
+    if drive not in names:
+        raise MechdynError(f"--drive {drive!r}: no load named or tagged so"
+                           f"{did_you_mean(drive, names)}; loads: "
+                           f"{', '.join(e.name for e in loads) or 'none'}")
 
 
 def add_linkage_command(commands):

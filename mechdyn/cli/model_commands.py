@@ -14,12 +14,12 @@ from mechdyn.cli.scene_commands import _progress
 def _models(args):
     from pathlib import Path
 
-    from mechdyn.declare.model_file import load_model
-    folder = Path(args.folder)
+    from mechdyn.declare.model_file import bundled_folder, load_model
+    folder = Path(args.folder) if args.folder else bundled_folder()
     if not folder.is_dir():
         raise MechdynError(f"no folder {folder} in {Path.cwd()}; give the folder of "
-                           "model files: mechdyn models DIR (the bundled models are in "
-                           "the models/ folder of mechdyn's repository)")
+                           "model files: mechdyn models DIR (without DIR: the models bundled "
+                           "with mechdyn)")
     files = sorted(p for p in folder.glob("*.py") if not p.name.startswith("_"))
     if not files:
         raise MechdynError(f"{folder} holds no model files (*.py)")
@@ -35,7 +35,8 @@ def _models(args):
             print(f"{path}  cannot be loaded: {reason}")
             continue
         summary = " ".join(model.doc.split("\n\n")[0].split()) or model.mechanism.name
-        print(f"{path}  {summary}\n    scenes: {', '.join(model.scenes) or 'none'}")
+        shown = path if args.folder else path.stem          # bundled: by name
+        print(f"{shown}  {summary}\n    scenes: {', '.join(model.scenes) or 'none'}")
     return EXIT_USAGE if broken else EXIT_OK
 
 
@@ -44,10 +45,11 @@ def _add_models_command(commands):
         "models", help="list model files with their scenes and descriptions",
         description="List the model files of a folder: the first line of each file's "
         "docstring (its first paragraph) and its scenes.",
-        epilog="examples:\n  mechdyn models            (the models/ folder here)\n"
+        epilog="examples:\n  mechdyn models            (the bundled models, by name)\n"
         "  mechdyn models ~/my_machines", formatter_class=argparse.RawDescriptionHelpFormatter)
-    models.add_argument("folder", nargs="?", default="models", metavar="DIR",
-                        help="folder of model files (default: models)")
+    models.add_argument("folder", nargs="?", metavar="DIR",
+                        help="folder of model files (default: the models bundled with "
+                        "mechdyn, which load_model and every command find by name)")
     models.set_defaults(run=_models)
 
 
@@ -124,7 +126,7 @@ def _sweep(args):
     if y not in table.columns:
         raise MechdynError(f"--y {y!r}: not a column ({', '.join(table.columns)})")
     shown = table.parameters + [y] + (["t_end"] if y != "t_end" else [])
-    print("  ".join(f"{c:>14}" for c in shown) + "  reason or error")
+    print("  ".join(f"{table.label(c):>14}" for c in shown) + "  reason or error")
     for row in table.rows:
         cells = "  ".join(f"{row[c]:>14.6g}" for c in shown)
         print(f"{cells}  {row['error'] or row['reason']}")
@@ -177,7 +179,8 @@ def _add_sweep_command(commands):
     _param_argument(sweep)
     where = sweep.add_mutually_exclusive_group()
     where.add_argument("--workers", type=_whole_number, metavar="N",
-                       help="local worker processes (default: all cores)")
+                       help="local worker processes (default: this process for the "
+                       "first second, then one process per core)")
     where.add_argument("--dask", metavar="ADDRESS",
                        help="run on a Dask cluster, e.g. tcp://host:8786 (needs mechdyn[dask])")
     sweep.add_argument("--out", metavar="FILE.csv", help="stream the rows to this file "
@@ -238,6 +241,7 @@ def _animate(args):
     with _progress(args) as progress:
         if progress is not None:
             progress.t_start = scene.t_start
+            progress.until = " or ".join(map(repr, scene.until))
         result = model.mechanism.simulate(scene, params, progress=progress)
     film = animate(model.mechanism, result, params, args.out, sample=args.sample,
                    fps=args.fps)

@@ -67,7 +67,10 @@ def generate(eqs, scene, elements) -> tuple:
         forcing = forcing - sign * sp.Max(magnitude, 0) * fr.gradient
     output_exprs = [switches.lock(friction_signed(e, eqs, signs)) for _, e, _ in outputs]
     flags = switches.flags
-    periods = _forcing_periods([forcing] + magnitudes, set(eqs.q) | set(eqs.u))
+    # the events' own sines and cosines of t bound the step too (a fast oscillating
+    # condition on a slow state is sampled at least 16 times a period)
+    periods = _forcing_periods([forcing] + magnitudes + [e for _, e in stops]
+                               + switches.functions, set(eqs.q) | set(eqs.u))
     everything = [mass_matrix, forcing, eqs.kinetic_energy, eqs.potential_energy]
     everything += magnitudes + [e for _, e in stops] + output_exprs
     everything += [e for exprs in locked.values() for e in exprs]
@@ -118,6 +121,10 @@ def generate(eqs, scene, elements) -> tuple:
     event_exprs = [r(e) for _, e in stops] + [r(fr.rate) for fr in frictions] \
         + [r(m) for m in magnitudes] + [r(e) for e in locked["gap"]] \
         + [r(e) for e in switches.functions] + [r(e) for _, e in domains]
+    first_switch = len(stops) + 2 * len(frictions) + len(contacts)
+    candidates = [*range(len(stops)), *range(first_switch,
+                                              first_switch + len(switches.functions))]
+    timed = [i for i in candidates if _of_time_alone(event_exprs[i])]   # stops, switches
     if constraints:      # closed loops: rhs solves M a = f + G' lambda, G a = -bias
         from mechdyn.compile.loop_code import loop_sources
         loops = loop_sources(eqs, mass, force, rename, source, states)
@@ -134,6 +141,8 @@ def generate(eqs, scene, elements) -> tuple:
                ["out[0] = {0}", "out[1] = {1}"]),
         source("periods", [r(e) for e in periods],
                [f"out[{i}] = {{{i}}}" for i in range(len(periods))]),
+        source("timed", [event_exprs[i] for i in timed],
+               [f"out[{k}] = {{{k}}}" for k in range(len(timed))]),
     ]
     meta = {
         "coordinates": coordinates,
@@ -158,6 +167,10 @@ def generate(eqs, scene, elements) -> tuple:
         + [["switch", str(e)] for e in switches.functions]
         + [["domain", label] for label, _ in domains],
         "periods": len(periods),
+        "timed": timed,
+        "revolving": _revolving([mass_matrix, forcing] + magnitudes + [
+            e for exprs in locked.values() for e in exprs] + [
+            c.expression for c in eqs.constraints], eqs.q),
         "autonomous": not any(t in sp.sympify(e).free_symbols
                               for e in [mass_matrix, forcing] + magnitudes),
         "eliminated": {c.func.__name__: str(e) for c, e in eqs.eliminated.items()},
@@ -303,6 +316,29 @@ def _forcing_periods(expressions, states) -> list:
                         if period not in periods:
                             periods.append(period)
     return periods
+
+
+def _revolving(expressions, coordinates) -> list:
+    """The indices of the coordinates the equations repeat in after a turn of 2 pi
+    (they enter only through sines and cosines): their size means nothing, and the
+    error control weighs them on the scale of one revolution."""
+    expressions = [sp.sympify(e) for e in expressions]
+    found = []
+    for i, q in enumerate(coordinates):
+        turned = {q: q + 2 * sp.pi}
+        if any(e.has(q) for e in expressions) and \
+                all(e.xreplace(turned) == e for e in expressions):
+            found.append(i)
+    return found
+
+
+def _of_time_alone(expr) -> bool:
+    """Whether an event function (renamed: states ``q*``/``u*``, parameters ``p*``,
+    signs ``s*``, flags ``w*``) depends on t and on parameters only: its crossings are
+    known without the state (:mod:`mechdyn.simulate.time_events`)."""
+    names = {s.name for s in sp.sympify(expr).free_symbols}
+    return "t" in names and all(n == "t" or (n[0] == "p" and n[1:].isdigit())
+                                for n in names)
 
 
 # ------------------------------------------------------------------------- helpers

@@ -16,7 +16,7 @@ import numpy as np
 from mechdyn.errors import SimulationError
 
 __all__ = ["LoopSingularError", "LOOP_MARGIN", "PIVOT_FLOOR", "loop_solve",
-           "numeric_jacobian", "numeric_minors"]
+           "numeric_jacobian", "numeric_minors", "rank_margin"]
 
 # Smallest pivot of S, relative to its diagonal, the generated rhs accepts (below it the
 # loops have lost rank numerically). Where a watched minor changes sign the driver calls
@@ -28,13 +28,34 @@ LOOP_MARGIN = 1e-6
 class LoopSingularError(SimulationError):
     """The loop constraints lost rank (a change point or a locked toggle): the motion of
     the linkage is not determined there. ``loop``: the constraint that became dependent
-    on the others; ``time``, ``state``."""
+    on the others; ``time``, ``state`` where the run stopped; after the run,
+    ``kept_until``: the time ``partial`` ends (its last well-conditioned step)."""
 
     def __init__(self, loop, t_value, state, detail=""):
         self.loop, self.time, self.state = loop, t_value, list(state)
         super().__init__(f"loop {loop} is singular at t = {t_value:.6g} s{detail}: its "
                          "constraints lose rank there (a change point or toggle position "
                          "where the linkage can move more than one way)")
+
+
+def rank_margin(grads, columns=None):
+    """The smallest of the ``m`` singular values of the constraint Jacobian ``G`` (or of
+    its ``columns``) with every column scaled to unit length: 0 where the constraints
+    lose rank, about 1 far from it; the same however a loop is turned or scaled (the
+    column of a revolute term has the link's length as its norm).
+
+    >>> float(rank_margin(np.array([[0.0, 0.0, 0.0], [0.1, 0.3, -0.1]])))  # all in line
+    0.0
+    >>> round(rank_margin(np.array([[0.0, -0.3], [0.1, 0.0]])), 12)
+    1.0
+    """
+    part = np.asarray(grads, dtype=float)
+    if columns is not None:
+        part = part[:, columns]
+    norms = np.linalg.norm(part, axis=0)
+    part = part / np.maximum(norms, 1e-12 * max(float(norms.max(initial=0.0)), 1e-300))
+    values = np.linalg.svd(part, compute_uv=False)
+    return float(values[part.shape[0] - 1]) if len(values) >= part.shape[0] else 0.0
 
 
 def numeric_minors(flat, m, n, out):

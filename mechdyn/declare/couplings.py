@@ -72,7 +72,10 @@ class Couplings:
 
     def freewheel(self, name, along, release=0, tags=()) -> OneWayClutch:
         """A freewheel (overrunning clutch): ``along`` may only increase, overrunning
-        costs nothing, locked it holds any backward moment."""
+        costs nothing, locked it holds any backward moment. Locked at rest it releases
+        forward once the moment pushing forward exceeds ``release`` (default 0: at once;
+        MSL's small threshold of a disengaged clutch):
+        :class:`~mechdyn.declare.unilateral.OneWayClutch` with ``moment = 0``."""
         return self.add(OneWayClutch(name, moment=0, along=along, release=release,
                                      tags=tags))
 

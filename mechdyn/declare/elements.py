@@ -141,14 +141,26 @@ class Load(Element):
         if not all(isinstance(n, str) for n in on):
             raise DeclarationError(f"load {self.name!r}: on= takes link names, got {self.on!r}")
         object.__setattr__(self, "on", on)
-        self._expr("value")
         self._expr("along")
+        if callable(self.value) and not isinstance(self.value, sp.Basic):
+            object.__setattr__(self, "value", self._characteristic(self.value))
+        self._expr("value")
         if self.efficiency is not None:
             self._expr("efficiency")
             eta = self.efficiency
             if sp.Le(eta, 0) == sp.true or sp.Gt(eta, 1) == sp.true:
                 raise DeclarationError(
                     f"load {self.name!r}: efficiency must lie in (0, 1], got {eta}")
+
+    def _characteristic(self, value):
+        """A motor characteristic (``md.motors``) at the speed of ``along``."""
+        from mechdyn.declare.motors import Characteristic
+        if not isinstance(value, Characteristic):
+            raise DeclarationError(
+                f"load {self.name!r}: value {value!r} is a function; give a number or sympy "
+                "expression, or a motor characteristic from md.motors (kloss, dc_shunt, "
+                "table), which the load calls with the speed of its along")
+        return value(sp.diff(self.along, t))
 
     def output(self, eqs):
         return eqs.to_plain(self.value)

@@ -9,12 +9,17 @@ A model file is the user's own code and runs like any script. Whatever goes wron
 other files and the command exits with status 2. A real Ctrl-C still interrupts. Values
 typed on the command line are parsed by :mod:`mechdyn.parse`, never evaluated.
 
->>> model = load_model("models/shoe_brake.py")   # doctest: +SKIP
->>> sorted(model.scenes)                          # doctest: +SKIP
+The bundled models ship with the package: ``load_model("shoe_brake")`` finds one by
+name from any folder, and so does ``models/shoe_brake.py`` where no ``models`` folder is
+at hand (the README's examples run in an empty folder).
+
+>>> model = load_model("shoe_brake")
+>>> sorted(model.scenes)
 ['braking']
 """
 from __future__ import annotations
 
+import importlib.util
 import runpy
 import signal
 import threading
@@ -25,11 +30,11 @@ from pathlib import Path
 
 import sympy as sp
 
-from mechdyn.errors import MechdynError
+from mechdyn.errors import MechdynError, did_you_mean
 from mechdyn.declare.mechanism import Mechanism
 from mechdyn.declare.scene import Scene
 
-__all__ = ["Model", "load_model"]
+__all__ = ["Model", "load_model", "bundled_folder", "locate"]
 
 
 class ModelFileError(MechdynError, ValueError):
@@ -52,6 +57,7 @@ class Model:
             cycle = "+" in name and all(part in self.scenes for part in name.split("+"))
             hint = (" (a duty cycle A+B runs with `mechdyn simulate` or md.duty_cycle)"
                     if cycle else "")
+            hint = hint or did_you_mean(name, self.scenes)
             raise ModelFileError(f"{self.path}: no scene {name!r}{hint}; scenes: "
                                  f"{', '.join(self.scenes) or 'none'}")
         return self.scenes[name]
@@ -64,15 +70,16 @@ class Model:
         for symbol in self.mechanism.equations().parameters:
             if str(symbol) == name:
                 return symbol
-        raise ModelFileError(f"{self.path}: no parameter {name!r}; parameters: "
-                             f"{', '.join(sorted(str(s) for s in self.params))}")
+        known = sorted({str(s) for s in self.params}
+                       | {str(s) for s in self.mechanism.equations().parameters})
+        raise ModelFileError(f"{self.path}: no parameter {name!r}{did_you_mean(name, known)}"
+                             f"; parameters: {', '.join(known)}")
 
 
 def load_model(path) -> Model:
-    """Run a model file and collect its ``mechanism``, ``params`` and ``scenes``."""
-    path = Path(path)
-    if not path.is_file():
-        raise ModelFileError(f"model file {path} not found")
+    """Run a model file and collect its ``mechanism``, ``params`` and ``scenes``;
+    ``path`` a file or the name of a bundled model (see :func:`locate`)."""
+    path = locate(path)
     namespace = _run(path)
     mechanism = namespace.get("mechanism")
     if not isinstance(mechanism, Mechanism):
@@ -87,6 +94,43 @@ def load_model(path) -> Model:
                              f"{type(points).__name__}")
     return Model(path, mechanism, params, scenes, doc.strip() if isinstance(doc, str) else "",
                  dict(points))
+
+
+def bundled_folder() -> Path:
+    """The folder of the models that ship with mechdyn (package data
+    ``mechdyn/models``, or ``models/`` beside the package in a source checkout)."""
+    spec = importlib.util.find_spec("mechdyn.models")
+    for location in (spec.submodule_search_locations or []) if spec else []:
+        if Path(location).is_dir():
+            return Path(location)
+    return Path(__file__).resolve().parents[2] / "models"
+
+
+def bundled_names() -> list:
+    """The names of the bundled models (``load_model(name)``)."""
+    return sorted(p.stem for p in bundled_folder().glob("*.py") if not p.name.startswith("_"))
+
+
+def locate(path) -> Path:
+    """The model file ``path`` names: the file itself; a bundled model by name
+    (``"slider_crank"``); ``models/NAME.py`` of the bundled models where there is no
+    ``models`` folder here. Otherwise a :class:`ModelFileError` that suggests the
+    closest file names."""
+    path = Path(path)
+    if path.is_file():
+        return path
+    bundled = bundled_folder() / (path.stem + ".py")
+    bare = path.parent == Path(".") and path.suffix in ("", ".py")
+    elsewhere = path.parent == Path("models") and not Path("models").is_dir()
+    if (bare or elsewhere) and bundled.is_file():
+        return bundled
+    local = {p.stem: str(p) for p in sorted(path.parent.glob("*.py"))} \
+        if path.parent.is_dir() else {}
+    hint = did_you_mean(path.stem, [*local, *bundled_names()])
+    for stem, shown in local.items():                        # a file here: its path
+        hint = hint.replace(f" {stem}?", f" {shown}?")
+    raise ModelFileError(f"model file {path} not found{hint}; the bundled models, by "
+                         f"name: {', '.join(bundled_names())}")
 
 
 def _run(path) -> dict:

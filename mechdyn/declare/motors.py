@@ -1,13 +1,19 @@
-"""Motor characteristics: torque as an expression of the speed.
+"""Motor characteristics: torque as a function of the speed.
 
-Each function returns a characteristic: call it with the speed expression (usually
-``md.speed(phi)``) to get the driving moment for a ``load``.
+Each function returns a :class:`Characteristic`. Give it to ``load`` as the value (the
+load calls it with the speed of its ``along``), or call it with a speed expression to
+get the moment as an expression.
 
 >>> import sympy as sp, mechdyn as md
 >>> phi = md.coordinate("phi")
->>> M = md.motors.dc_shunt(M_0=100, omega_0=150)(md.speed(phi))
->>> M.subs(md.speed(phi), 75)
+>>> motor = md.motors.dc_shunt(M_0=100, omega_0=150)
+>>> motor
+dc_shunt(M_0=100, omega_0=150)
+>>> motor(md.speed(phi)).subs(md.speed(phi), 75)
 50
+>>> drive = md.Mechanism("drive", [phi])
+>>> drive.load("motor", motor, along=phi).value
+100 - 2*Derivative(phi(t), t)/3
 """
 from __future__ import annotations
 
@@ -17,7 +23,26 @@ import sympy as sp
 from mechdyn.declare.elements import as_expression
 from mechdyn.errors import DeclarationError
 
-__all__ = ["kloss", "dc_shunt", "table"]
+__all__ = ["Characteristic", "kloss", "dc_shunt", "table"]
+
+
+class Characteristic:
+    """A motor's moment as a function of its speed: ``characteristic(speed)`` gives the
+    expression; ``load(name, characteristic, along=...)`` calls it with the speed of
+    ``along``."""
+
+    def __init__(self, name, moment):
+        self.name, self._moment = name, moment
+
+    def __call__(self, speed):
+        return self._moment(as_expression(speed, f"{self.name}: speed"))
+
+    def __repr__(self):
+        return self.name
+
+
+def _described(function, **arguments) -> str:
+    return f"{function}({', '.join(f'{k}={v}' for k, v in arguments.items())})"
 
 
 def kloss(M_k, s_k, omega_sync):
@@ -32,6 +57,7 @@ def kloss(M_k, s_k, omega_sync):
     >>> md.motors.kloss(100, 0.2, 157)(omega).subs(omega, 157 * 0.8)
     100.000000000000
     """
+    label = _described("kloss", M_k=M_k, s_k=s_k, omega_sync=omega_sync)
     M_k = as_expression(M_k, "kloss: M_k")
     s_k = as_expression(s_k, "kloss: s_k")
     omega_sync = as_expression(omega_sync, "kloss: omega_sync")
@@ -42,12 +68,13 @@ def kloss(M_k, s_k, omega_sync):
     def characteristic(speed):
         slip = (omega_sync - speed) / omega_sync
         return 2 * M_k * slip * s_k / (slip ** 2 + s_k ** 2)
-    return characteristic
+    return Characteristic(label, characteristic)
 
 
 def dc_shunt(M_0, omega_0):
     """DC shunt motor, linear: ``M = M_0 (1 - omega/omega_0)`` (stall moment ``M_0``,
     no-load speed ``omega_0``)."""
+    label = _described("dc_shunt", M_0=M_0, omega_0=omega_0)
     M_0 = as_expression(M_0, "dc_shunt: M_0")
     omega_0 = as_expression(omega_0, "dc_shunt: omega_0")
     if omega_0.is_number and not omega_0 > 0:
@@ -55,7 +82,7 @@ def dc_shunt(M_0, omega_0):
 
     def characteristic(speed):
         return M_0 * (1 - speed / omega_0)
-    return characteristic
+    return Characteristic(label, characteristic)
 
 
 def table(speeds, moments):
@@ -88,7 +115,7 @@ def table(speeds, moments):
             pieces.append((cubic, speed <= x[i + 1]))
         pieces.append((float(y[-1]), True))
         return sp.Piecewise(*pieces)
-    return characteristic
+    return Characteristic(f"table({len(x)} points)", characteristic)
 
 
 def _pchip_slopes(x, y):

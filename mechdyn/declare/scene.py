@@ -130,8 +130,8 @@ class Scene:
     method : str
         ``"auto"``, a ``solve_ivp`` method name, or ``"Rodas5P"`` (compiled kernels).
     backend : str
-        ``"auto"`` (scipy for short runs, the compiled kernels once a run proves long),
-        ``"scipy"`` or ``"compiled"`` (numba).
+        ``"auto"`` (the compiled kernels wherever numba is installed and the scene has
+        a compiled form, else scipy), ``"scipy"`` or ``"compiled"`` (numba).
     rtol, atol : float
         Tolerances (``atol`` may be a dict per state, with an optional ``"default"``):
         finite, ``atol > 0``, ``MIN_RTOL <= rtol < 1`` (``MIN_RTOL = 100 eps``, about

@@ -84,7 +84,7 @@ def derive(mechanism, element_names=None, rigid=()) -> Equations:
             + _diff(slide, t)
         return grad, slide, bias
 
-    forces, powers, frictions, contacts = {}, {}, [], []
+    forces, powers, frictions, contacts, sources = {}, {}, [], [], {}
     zero = sp.zeros(len(q), 1)
     for name in element_names:
         element = elements[name]
@@ -93,23 +93,28 @@ def derive(mechanism, element_names=None, rigid=()) -> Equations:
         if isinstance(element, Load):
             along = to_plain(element.along)
             value = to_plain(element.value)
+            sources[name] = ("load", value, along, None if element.efficiency is None
+                             else to_plain(element.efficiency))
             if element.efficiency is not None:
                 value = value * _efficiency_factor(value * rate(along), element.efficiency)
             column = scaled(value, gradient(along))
         elif isinstance(element, Spring):
             stretch = to_plain(element.stretch)
             k = to_plain(element.k)
+            sources[name] = ("spring", k, stretch)
             potential += k * stretch ** 2 / 2
             column = scaled(-k * stretch, gradient(stretch))
         elif isinstance(element, Damper):
             stretch = to_plain(element.stretch)
             c = to_plain(element.c)
+            sources[name] = ("damper", c, stretch)
             grad = gradient(stretch)
             stretch_rate = rate(stretch, grad)
             dissipation += c * stretch_rate ** 2 / 2
             column = scaled(-c * stretch_rate, grad)
         elif isinstance(element, Gravity):
             column = zero
+            sources[name] = ("gravity", element.g, None)
             for (m, _, _, y, _) in link_plain.values():
                 potential += m * element.g * y
                 column = column - m * element.g * gradient(y)
@@ -118,6 +123,7 @@ def derive(mechanism, element_names=None, rigid=()) -> Equations:
             magnitude = to_plain(element.moment)
             grad, slide, bias = moving(along)
             one_way = isinstance(element, OneWayClutch)
+            sources[name] = ("one_way" if one_way else "friction", magnitude, along)
             frictions.append(FrictionTerm(
                 name, magnitude, grad, slide, bias, "one_way" if one_way else "friction",
                 to_plain(element.peak), to_plain(element.release) if one_way else sp.S.Zero))
@@ -166,7 +172,9 @@ def derive(mechanism, element_names=None, rigid=()) -> Equations:
         excluded=excluded, rigid=rigid_names, rheonomic=rheonomic, links=link_plain,
         to_plain=to_plain, constraints=constraints,
         independent=tuple(plain_of[c] for c in mechanism.independent if c in kept),
-        contacts=tuple(contacts), gears=tuple(gears))
+        contacts=tuple(contacts), gears=tuple(gears), sources=sources,
+        coordinate_units={plain_of[c]: mechanism.units.get(c.func.__name__, "rad")
+                          for c in kept})
 
 
 def _constraint_terms(mechanism, to_plain, gradient, rate, q, u) -> tuple:

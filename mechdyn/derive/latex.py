@@ -15,63 +15,69 @@ from __future__ import annotations
 import sympy as sp
 from sympy.core.function import AppliedUndef
 
+from mechdyn.derive.textbook import Budget, applies, textbook, to_latex
 from mechdyn.symbols import dotted_symbol
 
 __all__ = ["derivation_latex", "derivation_text", "equations_latex", "derivation_steps",
-           "coupling_steps", "presentable", "readable"]
+           "coupling_steps", "presentable", "readable", "rhs_latex", "tidy"]
 
-_SIMPLIFY_LIMIT = 120      # operations; larger expressions are printed as derived
-
-
-def tidy(expr):
-    """A readable form: simplified when small, as derived when large (speed)."""
-    if isinstance(expr, sp.MatrixBase):
-        return expr.applyfunc(tidy)
+def tidy(expr, budget=None):
+    """A readable form: cheaply simplified (deterministic) while ``budget`` (a
+    :class:`~mechdyn.derive.textbook.Budget`) has time left."""
     if isinstance(expr, sp.Eq):
-        return sp.Eq(tidy(expr.lhs), tidy(expr.rhs))
-    if sp.count_ops(expr) > _SIMPLIFY_LIMIT:
-        return expr
-    simpler = sp.simplify(expr)
-    return simpler if sp.count_ops(simpler) <= sp.count_ops(expr) else expr
+        return sp.Eq(tidy(expr.lhs, budget), tidy(expr.rhs, budget))
+    return (budget or Budget()).tidy(expr)
 
 
-def derivation_steps(eqs) -> list:
-    """The derivation as ``(label, left side LaTeX, left side text, right side)``."""
+def derivation_steps(eqs, expanded=False, budget=None) -> list:
+    """The derivation as ``(label, left side LaTeX, left side text, right side)``: named
+    quantities as a textbook writes them (:mod:`mechdyn.derive.textbook`), or with
+    ``expanded`` (and for closed loops and imposed motions) every term written out in
+    the coordinates."""
+    return _derivation(eqs, expanded, budget or Budget())
+
+
+def _derivation(eqs, expanded, budget) -> list:
+    if not expanded and applies(eqs):
+        return textbook(eqs, budget).steps
     steps = []
     for c, expr in eqs.eliminated.items():
         plain = expr.xreplace({q: sp.Symbol(q.func.__name__)
                                for q in expr.atoms(AppliedUndef)})
         name = c.func.__name__
         steps.append(("rigid", sp.latex(sp.Symbol(name)), name, plain))
-    steps.append(("kinetic energy", "T", "T", tidy(eqs.kinetic_energy)))
+    steps.append(("kinetic energy", "T", "T", budget.tidy(eqs.kinetic_energy)))
     if eqs.potential_energy != 0:
-        steps.append(("potential energy", "V", "V", tidy(eqs.potential_energy)))
+        steps.append(("potential energy", "V", "V", budget.tidy(eqs.potential_energy)))
     if eqs.dissipation != 0:
-        steps.append(("dissipation", "D", "D", tidy(eqs.dissipation)))
+        steps.append(("dissipation", "D", "D", budget.tidy(eqs.dissipation)))
     for name, column in eqs.generalized_forces.items():
         for qi, entry in zip(eqs.q, column):
             if entry != 0:
                 label = f"Q_{{\\text{{{name}}}, {sp.latex(qi)}}}" if eqs.dof > 1 else \
                     f"Q_{{\\text{{{name}}}}}"
-                steps.append(("generalized force", label, f"Q[{name}, {qi}]", tidy(entry)))
+                steps.append(("generalized force", label, f"Q[{name}, {qi}]",
+                              budget.tidy(entry)))
     steps += coupling_steps(eqs)
     if eqs.constraints:
         steps += _loop_steps(eqs)
         return steps
     if eqs.dof == 1 and not eqs.rheonomic:
-        inertia = tidy(eqs.reduced_inertia)
+        inertia = budget.tidy(eqs.reduced_inertia)
         steps.append(("reduced inertia", "I_{\\mathrm{red}}", "I_red", inertia))
-        steps.append(("reduced moment", "M_{\\mathrm{red}}", "M_red", tidy(eqs.reduced_moment)))
+        steps.append(("reduced moment", "M_{\\mathrm{red}}", "M_red",
+                      budget.tidy(eqs.reduced_moment)))
         q, u, a = eqs.q[0], eqs.u[0], eqs.a[0]
-        textbook = ("I_{\\mathrm{red}} " + sp.latex(a) + " + \\frac{1}{2} \\frac{d I_{\\mathrm{red}}}"
-                    "{d " + sp.latex(q) + "} " + sp.latex(u) + "^{2}")
-        steps.append(("textbook form", textbook, f"I_red*{a} + 1/2*dI_red/d{q}*{u}**2",
+        textbook_lhs = ("I_{\\mathrm{red}} " + sp.latex(a) + " + \\frac{1}{2} "
+                        "\\frac{d I_{\\mathrm{red}}}{d " + sp.latex(q) + "} "
+                        + sp.latex(u) + "^{2}")
+        steps.append(("textbook form", textbook_lhs, f"I_red*{a} + 1/2*dI_red/d{q}*{u}**2",
                       sp.Symbol("M_red")))
-        lhs = inertia * a + tidy(sp.diff(inertia, q) / 2) * u ** 2
+        lhs = inertia * a + budget.tidy(sp.diff(inertia, q) / 2) * u ** 2
         steps.append(("equation of motion", sp.latex(lhs), str(lhs), eqs.textbook_equation.rhs))
     else:
-        mass = eqs.mass_matrix.applyfunc(tidy)
-        forcing = eqs.forcing.applyfunc(tidy)
+        mass = budget.tidy(eqs.mass_matrix)
+        forcing = budget.tidy(eqs.forcing)
         for i in range(eqs.dof):
             lhs = sum((mass[i, j] * eqs.a[j] for j in range(eqs.dof)), sp.S.Zero)
             steps.append(("equation of motion", sp.latex(lhs), str(lhs), forcing[i]))
@@ -118,26 +124,42 @@ def coupling_steps(eqs) -> list:
     return steps
 
 
-def derivation_latex(eqs) -> str:
-    """The derivation as an ``align*`` block, a line per step."""
+def derivation_latex(eqs, expanded=False, budget=None) -> str:
+    """The derivation as an ``align*`` block, a line per step (see
+    :func:`derivation_steps`)."""
+    budget = budget or Budget()
+    steps = derivation_steps(eqs, expanded, budget)
     lines = [f"% mechdyn: {eqs.name}" + (f" (without {', '.join(eqs.excluded)})"
-                                         if eqs.excluded else ""),
-             "\\begin{align*}"]
-    for _, lhs, _, rhs in derivation_steps(eqs):
-        rhs_latex = "M_{\\mathrm{red}}" if rhs == sp.Symbol("M_red") else sp.latex(rhs)
-        lines.append(f"{lhs} &= {rhs_latex}")
-    lines = lines[:2] + [line + " \\\\" for line in lines[2:-1]] + lines[-1:]
+                                         if eqs.excluded else "")]
+    if budget.spent:
+        lines.append(f"% {_SPENT.format(budget.seconds)}")
+    lines.append("\\begin{align*}")
+    rows = [f"{lhs} &= {rhs_latex(rhs)}" for _, lhs, _, rhs in steps]
+    lines += [row + " \\\\" for row in rows[:-1]] + rows[-1:]
     lines.append("\\end{align*}")
     return "\n".join(lines)
 
 
-def derivation_text(eqs) -> str:
+_SPENT = ("simplification stopped after the budget of {:g} s: later expressions are "
+          "printed as derived")
+
+
+def rhs_latex(rhs) -> str:
+    """The LaTeX of a step's right side (``M_red`` in the textbook form's line)."""
+    return "M_{\\mathrm{red}}" if rhs == sp.Symbol("M_red") else to_latex(rhs)
+
+
+def derivation_text(eqs, expanded=False, budget=None) -> str:
     """The derivation as plain text, a labelled line per step."""
+    budget = budget or Budget()
+    steps = derivation_steps(eqs, expanded, budget)
     lines = [f"{eqs.name}: coordinates {', '.join(str(q) for q in eqs.q)}"]
     if eqs.excluded:
         lines.append(f"  left out: {', '.join(eqs.excluded)}")
-    for label, _, lhs, rhs in derivation_steps(eqs):
-        lines.append(f"  {label + ':':20s} {lhs} = {sp.sstr(rhs)}")
+    if budget.spent:
+        lines.append(f"  ({_SPENT.format(budget.seconds)})")
+    for label, _, lhs, rhs in steps:
+        lines.append(f"  {label + ':':22s} {lhs} = {sp.sstr(rhs)}")
     return "\n".join(lines)
 
 

@@ -81,7 +81,10 @@ class Equations:
     included), ``excluded`` (names left out), ``rigid`` (names made rigid),
     ``constraints`` (the closed loops' :class:`ConstraintTerm` s: ``M a = f + G' lambda``
     with ``G a = -bias``), ``independent`` (plain symbols of the independent coordinates),
-    ``contacts`` (the stops' limits, :class:`ContactTerm`), ``gears`` (:class:`GearTerm`).
+    ``contacts`` (the stops' limits, :class:`ContactTerm`), ``gears`` (:class:`GearTerm`),
+    ``sources`` (element name -> ``(kind, value, along, ...)`` as declared, in plain
+    symbols: what the printed derivation writes each element's term from),
+    ``coordinate_units`` (plain symbol -> declared unit).
     """
     name: str
     coordinates: tuple
@@ -107,6 +110,8 @@ class Equations:
     independent: tuple = ()
     contacts: tuple = ()
     gears: tuple = ()
+    sources: dict = field(default_factory=dict)
+    coordinate_units: dict = field(default_factory=dict)
 
     # --------------------------------------------------------------- the system
     @property

@@ -2,7 +2,10 @@
 
 Dormand & Prince's explicit Runge-Kutta 8(5,3) as in Hairer's dop853.f and scipy's
 ``DOP853``: the error norm combines the 5th- and 3rd-order estimates as both do
-(RMS of err / (atol_i + rtol max(|y_old_i|, |y_new_i|))), step-size control follows
+(RMS of err / (atol_i + rtol max(|y_old_i|, |y_new_i|))), floored at ``ERROR_FLOOR``
+times the 5th-order estimate (the blend falls far below it where the 3rd-order
+estimate is large, and accepted steps 10 times over the tolerance on the slider-crank,
+docs/hard-cases.md), step-size control follows
 dop853.f (safety 0.9, new/old step within [0.333, 6], no growth right after a
 rejection), and the continuous extension is the 7th-order one of dop853.f, returned as
 monomial coefficients in x = (t - t_old) / h on [0, 1].
@@ -20,6 +23,7 @@ SAFETY = 0.9
 MIN_FACTOR = 0.333   # dop853.f FAC1: the new step is at least 0.333 the old one
 MAX_FACTOR = 6.0     # dop853.f FAC2: ... and at most 6 times
 EXPONENT = 1.0 / 8.0
+ERROR_FLOOR = 0.1    # the norm is at least this part of the 5th-order estimate's
 BLIND_DROP = 1e-2    # an estimate this far below the last trusted one is taken as blind
 TRUST_DECAY = 0.1    # ... and the trusted value decays so a real fall of the error shows
 
@@ -60,6 +64,7 @@ def attempt(rhs, t, y, h, t_new, p, atol, rtol, K, y_stage, y_new):
     if denominator == 0.0:        # no error, or one so small that 0.01 err3 underflows
         return 0.0
     norm = abs(h) * err5 / denominator
+    norm = max(norm, ERROR_FLOOR * abs(h) * math.sqrt(err5 / n))
     return norm if math.isfinite(norm) else math.inf
 
 

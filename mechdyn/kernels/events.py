@@ -9,7 +9,9 @@ located by the Illinois variant of regula falsi on the dense output until the br
 is narrower than 4 eps |t|; the reported time is the bracket's end on the new side, so
 g there already has its new sign (or is 0). Zeros never count as a sign: a g that is
 exactly 0 at the start of a run takes its sign from its first non-zero sample and
-fires only on a later crossing. The earliest root wins; every event whose root lies
+fires only on a later crossing; one whose caller set its side while zero (an event
+whose zero counts as before the crossing) fires at the first point beyond that zero,
+never at it. The earliest root wins; every event whose root lies
 within 16 eps max(|t|) of it fires with it.
 
 Limitation: a g that crosses and re-crosses zero between two samples (within one step,
@@ -53,12 +55,15 @@ def _g_at(events, p, i, t, t_old, h, poly, y_work, g_work):
 @njit
 def _root(events, p, i, t_old, h, poly, ta, ga, tb, gb, y_work, g_work, counts):
     """A root of g_i in [ta, tb] with g(ta) of the old sign (or 0), g(tb) of the new:
-    the first point on the new side once the bracket is below 4 eps |t| (also where g
-    sits at zero at ta: a function that leaves zero fires where it has left it, so
-    the state there is on the new side), or an interior point where g is 0."""
+    the first point on the new side once the bracket is below 4 eps |t|."""
     side = 0
     checked_width = tb - ta
     for iteration in range(MAX_ITERATIONS):
+        if ga == 0.0 and ta > t_old:
+            return ta
+        # a zero at the step's start counts as the old side (an event whose zero is
+        # "before", e.g. a clutch's normal force ramping up from 0): bisect towards it
+        # for the first point on the new side
         width = tb - ta
         if width <= 4.0 * EPS * max(abs(ta), abs(tb)):
             break

@@ -22,7 +22,7 @@ from sympy.core.function import AppliedUndef
 
 from mechdyn.declare.elements import is_structural
 from mechdyn.errors import SimulationError
-from mechdyn.derive.latex import derivation_latex, derivation_steps
+from mechdyn.derive.latex import derivation_latex, derivation_steps, rhs_latex
 from mechdyn.symbols import plain
 from mechdyn.plotting import figure_html
 from mechdyn.tabular import JUPYTER_STYLE, escape
@@ -135,7 +135,7 @@ def _derivation(eqs, source=True) -> str:
                 if eqs.excluded else "") + ".</p>")
     rows = []
     for label, lhs, _, rhs in derivation_steps(eqs):
-        right = "M_{\\mathrm{red}}" if rhs == sp.Symbol("M_red") else sp.latex(rhs)
+        right = rhs_latex(rhs)
         rows.append(f"<tr><td>{_e(label)}</td><td class='math'>"
                     f"{_display(lhs + ' = ' + right)}</td></tr>")
     table = "<table><tr><th>step</th><th>expression</th></tr>" + "".join(rows) + "</table>"

@@ -28,13 +28,14 @@ from mechdyn.simulate.contacts import jump
 from mechdyn.errors import SimulationError
 from mechdyn.simulate.events import Event
 from mechdyn.simulate.friction import FrictionModes, Mode
-from mechdyn.simulate.loop_watch import LoopWatch
+from mechdyn.simulate.loop_watch import LoopSingularError, LoopWatch
 from mechdyn.simulate.methods import (StiffnessMonitor, backend_plan, explicit_for, fallbacks,
                       motion_jacobian, segment_tolerances, stiff_for)
 from mechdyn.simulate.result import Result
 from mechdyn.simulate.run_checks import Budget, check_finite, check_mass, diagnosis, state_text
 from mechdyn.simulate.segments import compiled_runner, scipy_runner, watched_events
 from mechdyn.simulate.threads import single_threaded_blas
+from mechdyn.simulate.time_events import time_events
 from mechdyn.simulate.trajectory import Segment, Trajectory
 
 __all__ = ["Budget", "Driver"]
@@ -88,6 +89,8 @@ class Driver:
         reason = "t_end"
         try:
             domains = self._domains = self._check_domains(t, y, self.modes.p(Mode()))
+            self.times = time_events(self.c, self.modes.p(Mode()), y, t, t_end,
+                                     self.periods)
             terms = self._start_terms(t, y)
             self.mass_scale = check_mass(self.c, terms, t, y)
             muted, instant, count, h = set(), None, 0, None
@@ -133,6 +136,8 @@ class Driver:
                     method, h = self._choose(mode, t, y, method), None
         except SimulationError as error:
             self._finish()
+            if isinstance(error, LoopSingularError):
+                self.loops.trim(self.trajectory, self.events, error, self.modes.p(Mode()))
             error.partial = self._result("failed: " + str(error))
             if not str(error).startswith("integration"):
                 error.args = (f"integration failed: {error}",)
@@ -163,6 +168,8 @@ class Driver:
         watched = watched_events(self.modes, self.scene, mode, muted, t0, y0,
                                  self.loops.watched_minor(t0, y0, p))
         self._watched = watched
+        t_stop, timed = self.times.segment_end(t0, t_end, watched) if self.times \
+            else (t_end, [])
         rtol, atol = self.scene.rtol, self.atol
         if self.auto and backend == "scipy":
             rtol, atol = segment_tolerances(method, rtol, atol)
@@ -171,14 +178,15 @@ class Driver:
         hold = _HOLD_STEPS if getattr(self, "_settle", False) else 0
         self._settle = False
         if backend == "compiled":
-            run = compiled_runner(self, self.plan.functions_for(mode), mode, method, t0, y0,
-                                  t_end, h, watched, rtol, atol, segment, switch=self.auto)
+            run = compiled_runner(self, self.plan.functions_for(mode, method), mode, method,
+                                  t0, y0, t_stop, h, watched, rtol, atol, segment,
+                                  switch=self.auto)
         else:
             monitor = None
             if self.auto and not mode.groups:
                 monitor = StiffnessMonitor(method, lambda t, y: motion_jacobian(self.c, t, y,
                                                                                 p), rtol)
-            run = scipy_runner(self, mode, method, t0, y0, t_end, h, watched, rtol, atol,
+            run = scipy_runner(self, mode, method, t0, y0, t_stop, h, watched, rtol, atol,
                                monitor, segment, _COLLAPSE * self.span,
                                self.loops.drifted(y0, p))
         counted = dict.fromkeys(("steps", "nfev", "njev", "nlu"), 0)
@@ -196,6 +204,9 @@ class Driver:
                 continue
             if outcome.status != "failed":
                 check_finite(self.c, outcome.t, outcome.y)
+            if timed and outcome.status in ("finished", "event") and outcome.t >= t_stop:
+                outcome.status = "event"                    # a crossing of t alone
+                outcome.fired = sorted(set(outcome.fired) | set(timed))
             return outcome, run.h
 
     def _count(self, counts, counted, method, backend):
@@ -367,12 +378,15 @@ class Driver:
     def _max_step(self):
         """The longest step of a segment with stuck elements, where the state barely
         moves and the solver's steps would grow past changes of the loads: 1/200 of the
-        run, and 1/16 of the shortest period of a sine or cosine of t in the forcing."""
+        run, and 1/16 of the shortest period of a sine or cosine of t in the forcing or
+        the events (which bounds every segment's step: ``period_step``)."""
         span = self.scene.time_limit - self.scene.t_start
         out = [0.0] * self.c.meta["periods"]
         self.c.raw["periods"](self.scene.t_start, [0.0] * (2 * self.n),
                               self.modes.p(Mode()), out)
-        return min([span / 200] + [period / 16 for period in out if period > 0])
+        self.periods = [period for period in out if period > 0]
+        self.period_step = min([np.inf] + [period / 16 for period in self.periods])
+        return min(span / 200, self.period_step)
 
     def _result(self, reason) -> Result:
         return Result(self.c, self.trajectory, self.events, reason, dict(self.stats),

@@ -50,6 +50,9 @@ class Event:
     def __str__(self):
         return f"t = {self.time:.6g} s: {self.kind} {self.name} ({self.detail})"
 
+    def __repr__(self):
+        return f"{self.kind} {self.name} at t = {self.time:.6g} s"
+
 
 class EventWatch:
     """The event functions of one segment: ``values(t, y) -> array``, a direction per

@@ -15,14 +15,27 @@ and every minor is below :data:`~mechdyn.compile.loop_code.LOOP_MARGIN` times it
 start, the run stops with :class:`~mechdyn.compile.loop_code.LoopSingularError` naming the loop
 and the independent coordinates (otherwise a new segment watches the largest minor
 there). Without loops every method here does nothing.
+
+Approaching a change point the steps the solver accepts grow inaccurate (the loop solve's
+error grows like ``eps / margin^2``, with the rank margin of ``G``,
+:func:`~mechdyn.compile.loop_numeric.rank_margin`, about the distance to it), so a
+run stops with :class:`LoopSingularError` where the margin falls below ``sqrt(eps /
+rtol)`` (the loop solve's rounding above rtol: a crank may even turn back, short of the
+change point, on rounding), and :meth:`LoopWatch.trim` keeps only the points up to the
+last one whose margin is at least ten times that (that error below rtol / 100); the
+error says how far short of the singular position they end.
 """
 from __future__ import annotations
 
 import numpy as np
 
-from mechdyn.compile.loop_numeric import LOOP_MARGIN, LoopSingularError
+from mechdyn.compile.loop_numeric import LOOP_MARGIN, LoopSingularError, rank_margin
 
 __all__ = ["LoopWatch"]
+
+_PREFILTER = 0.1      # the rank margin is computed where G's largest minor falls below
+                      # this fraction of its size at the start (a minor is at most about
+                      # sqrt(n) margin times the largest column norm squared)
 
 
 class LoopWatch:
@@ -49,8 +62,30 @@ class LoopWatch:
 
         def drift(t, y):
             position, speed = self.c.drift(t, y, p)
-            return position > position_limit or speed > speed_limit
+            if position > position_limit or speed > speed_limit:
+                return True
+            self.check_margin(t, y, p)
+            return False
         return drift
+
+    def floor(self):
+        """The rank margin of ``G`` below which the loop solve's rounding (about
+        ``eps / margin^2``) exceeds rtol."""
+        return float(np.sqrt(np.finfo(float).eps / self.rtol))
+
+    def check_margin(self, t, y, p):
+        """Raise :class:`LoopSingularError` where the rank margin of ``G`` falls below
+        :meth:`floor`: the accelerations there are rounding, and a crank may turn back
+        short of a change point without any minor changing sign."""
+        from mechdyn.simulate.assembly import _independent_text, closure_parts
+        minors = np.abs(np.asarray(self.c.loop_minors(t, y, p)))
+        if self.scale is not None and minors.max() > _PREFILTER * self.scale:
+            return                              # every minor large: far from rank loss
+        margin = rank_margin(closure_parts(self.c, t, y, p)[1])
+        if margin < self.floor():
+            raise LoopSingularError(self._weakest(t, y, p), t, y,
+                                    f" ({_independent_text(self.c, y)}, rank margin of G "
+                                    f"{margin:.2g})")
 
     def watched_minor(self, t, y, p):
         """``(index, direction)`` of the minor a segment starting at ``(t, y)`` watches
@@ -89,3 +124,39 @@ class LoopWatch:
             fit = np.linalg.lstsq(others.T, scaled[k], rcond=None)[0]
             residuals.append(np.linalg.norm(scaled[k] - others.T @ fit))
         return self.c.meta["loops"][int(np.argmin(residuals))]
+
+    def trim(self, trajectory, events, error, p):
+        """Cut a run stopped by ``error`` (a :class:`LoopSingularError`) back to its
+        last well-conditioned step point (rank margin at least ten times
+        :meth:`floor`); the error's message and ``kept_until`` (time) say where the
+        partial result ends and how far short of the singular position (extrapolated
+        from the margins of the last two step points, the margin growing linearly
+        with the distance from it)."""
+        from mechdyn.simulate.assembly import _independent_text, closure_parts
+        times, states, _ = trajectory.points()
+
+        def margin(j):
+            return rank_margin(closure_parts(self.c, times[j], states[:, j], p)[1])
+        threshold = min(0.1, 10 * self.floor())
+        keep, last = len(times) - 1, []
+        while keep > 0 and margin(keep) < threshold:
+            last.append(keep)
+            keep -= 1
+        singular = np.asarray(error.state, dtype=float)[list(self.c.independent)]
+        if len(times) > 1:
+            j = len(times) - 1
+            m_last, m_before = margin(j), margin(j - 1)
+            if m_before > m_last:
+                x_last = states[list(self.c.independent), j]
+                x_before = states[list(self.c.independent), j - 1]
+                singular = x_last + m_last * (x_last - x_before) / (m_before - m_last)
+        trajectory.truncate(times[keep])
+        events[:] = [event for event in events if event.time <= times[keep]]
+        kept = states[list(self.c.independent), keep]
+        gaps = ", ".join(f"{self.c.coordinates[i]} {abs(s - k):.6g} short of {s:.9g}"
+                         for i, s, k in zip(self.c.independent, singular, kept))
+        error.kept_until = float(times[keep])
+        error.args = (f"{error}; error.partial ends at t = {times[keep]:.9g} s "
+                      f"({_independent_text(self.c, states[:, keep])}), {gaps}, the "
+                      "singular position: the last step point where the loops are "
+                      f"well-conditioned (rank margin of G >= {threshold:.2g})",)

@@ -240,13 +240,6 @@ class BackendPlan:
             self.functions = compiled_functions(self.c)
         return self.functions is not None
 
-    def functions_for(self, mode):
-        """The compiled functions a segment with ``mode`` runs on (of a scene with
-        modes: with the analytic Jacobian where nothing is stuck)."""
-        if not has_modes(self.c):
-            return self.functions
-        return self.functions[1 if mode.groups else 0]
-
     def compilable(self, mode) -> bool:
         return mode_compilable(self.c, mode)
 
@@ -260,6 +253,19 @@ class BackendPlan:
         if name == "Rodas5P" and not compiled:
             return STIFF
         return name
+
+    def functions_for(self, mode, method):
+        """The compiled functions a segment with ``mode`` and ``method`` steps: Rodas5P's
+        with the analytic Jacobian (compiled when first needed), DOP853's without; of a
+        scene with modes, its mode functions (the Jacobian only where nothing is
+        stuck)."""
+        from mechdyn.compile.numba_model import mode_functions, numba_functions
+        if has_modes(self.c):
+            pair = mode_functions(self.c, jac=method == "Rodas5P")
+            return pair[1 if mode.groups else 0]
+        if method != "Rodas5P":
+            return self.functions
+        return numba_functions(self.c, jac=True)
 
     def backend(self, method, mode) -> str:
         return "compiled" if (self.active and method in _KERNEL and self.compilable(mode)) \

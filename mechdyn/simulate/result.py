@@ -279,29 +279,30 @@ class Result:
     def summary(self, units=None) -> str:
         """A few lines: how it ended, final and peak values, events, cost. ``units``
         shows columns in other units (``{"speed": "rpm", "power": "kW"}``)."""
-        from mechdyn.display import Display, column_units, cost_line
+        from mechdyn.display import Display, column_units, cost_line, event_groups, tidy
         shown, si = Display(units), column_units(self)
         shown.check(si)
         lines = [f"{self.mechanism_name} — scene {self.scene.name!r}: ended at "
                  f"t = {self.t_end:.6g} s ({self.reason})"]
         n = self.compiled.dof
         for i, c in enumerate(self.coordinates):
-            (final,), unit = shown.values(c, si[c], self.y[i][-1:])
+            (final,), unit = shown.values(c, si[c], tidy(self.y[i][-1:], np.max(
+                np.abs(self.y[i]))))
             text = f"  {c}: final {final:.6g} {unit}"
             if unit == "rad":
                 text += f" = {final / (2 * np.pi):.6g} rev"
             name = self.state_names[n + i]
-            speed, speed_unit = shown.values(name, si[name],
-                                             np.array([self.y[n + i][-1], self.peak(name)[1]]))
+            speed, speed_unit = shown.values(name, si[name], tidy(
+                [self.y[n + i][-1], self.peak(name)[1]]))
             text += f"; speed final {speed[0]:.6g}, peak {speed[1]:.6g} {speed_unit}"
             lines.append(text)
         for label, values in self.outputs.items():
             values, unit = shown.values(label, si[label],
-                                        np.array([values[-1], self.peak(label)[1]]))
-            unit = f" {unit}" if unit else ""
-            lines.append(f"  {label}: peak {values[1]:.6g}{unit}, final {values[0]:.6g}{unit}")
-        for event in self.events:
-            lines.append(f"  {event}")
+                                        tidy([values[-1], self.peak(label)[1]]))
+            unit = f" {unit}" if unit else ""                # once, after both
+            lines.append(f"  {label}: peak {values[1]:.6g}, final {values[0]:.6g}{unit}")
+        lines += [f"  {text}" for text, _, _ in event_groups(self.events, self.t[0],
+                                                              self.t_end)]
         lines.append(f"  {cost_line(self.stats)}")
         return "\n".join(lines)
 

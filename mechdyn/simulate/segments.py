@@ -32,13 +32,16 @@ class Watched:
     group for a release; the minor), ``element`` (the stop condition, friction element or
     stop limit, else -1), ``direction`` (+1, -1, 0), ``side`` (+1/-1: the side a zero
     counts as; 0: a zero takes the side the function moves to) and ``offset`` (the value
-    that counts as zero: a gap negative by rounding at the segment's start)."""
+    that counts as zero: a gap negative by rounding at the segment's start); ``timed``: a
+    function of t alone, whose crossings the driver knows in advance
+    (:mod:`mechdyn.simulate.time_events`): not looked for on the steps."""
     kind: str
     index: int
     element: int
     direction: int
     side: int
     offset: float = 0.0
+    timed: bool = False
 
     @property
     def compiled(self) -> bool:
@@ -58,11 +61,12 @@ def watched_events(modes, scene, mode, muted, t0, y0, minor=None) -> list:
     switches = [i for i, (kind, _) in enumerate(kinds) if kind == "switch"]
     rates = [i for i, (kind, _) in enumerate(kinds) if kind == "rate"]
     magnitudes = [i for i, (kind, _) in enumerate(kinds) if kind == "magnitude"]
-    out = [Watched("stop", i, j, int(c.direction), 0)
+    timed = set(compiled.meta.get("timed", ()))
+    out = [Watched("stop", i, j, int(c.direction), 0, timed=i in timed)
            for j, (i, c) in enumerate(zip(stops, scene.until))]
     for j, i in enumerate(switches):
         if i not in muted:
-            out.append(Watched("switch", i, -1, 0, int(mode.flags[j])))
+            out.append(Watched("switch", i, -1, 0, int(mode.flags[j]), timed=i in timed))
     for k, sign in enumerate(mode.signs):           # zero counts as the sliding side
         if sign != 0:
             out.append(Watched("stick", rates[k], k, int(-sign), int(sign)))
@@ -92,10 +96,10 @@ def scipy_runner(context, mode, method, t0, y0, t_end, h, watched, rtol, atol, m
     if method in WITH_JACOBIAN and constrained is None:
         jac = tolerant(lambda t, y: c.jac(t, y, p), (size, size))
     watch = _event_watch(c, modes, mode, p, watched)
-    max_step = context.max_step if mode.groups else np.inf
+    max_step = context.max_step if mode.groups else context.period_step
     return ScipySegment(method, fun, jac, t0, y0, t_end, rtol, atol, segment, watch,
                         monitor, first_step=h, max_step=max_step, min_step=min_step,
-                        drift=drift)
+                        drift=drift, revolving=c.meta.get("revolving", ()))
 
 
 def compiled_runner(context, functions, mode, method, t0, y0, t_end, h, watched, rtol,
@@ -107,13 +111,15 @@ def compiled_runner(context, functions, mode, method, t0, y0, t_end, h, watched,
     the entries of ``events``, then the loops' watched minor and the room left to their
     drifts (the last two watched entries: a drift ends the segment for a projection).
     As on scipy, a segment with loops and nothing stuck samples its events at the step
-    ends only: the drift is the steps', not the interpolant's."""
+    ends only: the drift is the steps', not the interpolant's. Events of t alone are
+    ignored: the driver ends the segment at them."""
     from mechdyn.compile.mode_code import mode_vector
+    from mechdyn.kernels.layout import IGNORED
     from mechdyn.simulate.compiled_stepping import CompiledSegment
     from mechdyn.simulate.methods import has_modes
     c, modes = context.c, context.modes
     p, size = modes.p(mode), len(c.event_kinds)
-    max_step, extra, minor = np.inf, [], None
+    max_step, extra, minor = context.period_step, [], None
     if has_modes(c):
         offsets = {w.element: w.offset for w in watched if w.kind == "gap"}
         loops = ()
@@ -122,13 +128,13 @@ def compiled_runner(context, functions, mode, method, t0, y0, t_end, h, watched,
             loops = (minor, *context.loops.limits(y0, p))
             extra = [(size + len(mode.groups) + 1 + k, -1, 1) for k in range(2)]
         p = p + mode_vector(mode, modes.kinds, modes.frozen, modes.contacts, offsets, loops)
-        max_step = context.max_step if mode.groups else np.inf
+        max_step = context.max_step if mode.groups else max_step
     groups = size + len(mode.groups)
 
     def entry(w):
         return size + w.index if w.kind == "release" else groups if w.kind == "minor" \
             else w.index
-    spec = [(entry(w), w.direction, w.side) for w in watched]
+    spec = [(entry(w), IGNORED if w.timed else w.direction, w.side) for w in watched]
     return CompiledSegment(method, functions, p, t0, y0, t_end, rtol, atol, segment,
                            spec + extra, groups + (3 if minor is not None else 0),
                            first_step=h, max_step=max_step, drift=len(extra),
@@ -156,8 +162,9 @@ def _event_watch(c, modes, mode, p, watched):
                          for w in watched])
     watch = EventWatch(values, [w.direction for w in watched],
                        [w.side != 0 and w.kind != "switch" for w in watched],
-                       interior=2 if mode.groups else 0)
+                       interior=2 if mode.groups else 1)   # the middle: as the kernels
     watch.start_sides = {k: w.side for k, w in enumerate(watched) if w.kind == "switch"}
+    watch.muted[[w.timed for w in watched]] = True     # the driver ends the segment there
     return watch
 
 

@@ -32,7 +32,7 @@ import sympy as sp
 from mechdyn.compile.compiler import compile_scene
 from mechdyn.simulate.driver import Budget, Driver
 from mechdyn.declare.output_units import output_units
-from mechdyn.errors import SceneError, SimulationError
+from mechdyn.errors import SceneError, SimulationError, did_you_mean
 from mechdyn.simulate.methods import KERNEL_ONLY, choose_method
 from mechdyn.declare.parameters import ParameterSet
 from mechdyn.simulate.result import Result
@@ -71,7 +71,8 @@ def simulate(mechanism, scene: Scene, params: dict, *, progress=None, max_steps=
                              f"{list(start)!r}")
     atol = atol_vector(compiled, mechanism, scene)
     if scene.method != "auto" and scene.method not in (*METHODS, *KERNEL_ONLY):
-        raise SceneError(f"scene {scene.name!r}: unknown method {scene.method!r}; "
+        raise SceneError(f"scene {scene.name!r}: unknown method {scene.method!r}"
+                         f"{did_you_mean(scene.method, (*METHODS, *KERNEL_ONLY))}; "
                          f"use 'auto' or one of {', '.join((*METHODS, *KERNEL_ONLY))}")
     budget = Budget(scene.max_steps if max_steps is None else max_steps,
                     scene.max_wall_time if max_wall_time is None else max_wall_time)

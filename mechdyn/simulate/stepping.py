@@ -24,6 +24,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, Radau
 
+from mechdyn.simulate.error_control import guarded
+
 __all__ = ["METHODS", "WITH_JACOBIAN", "EXPLICIT", "ScipySegment", "Outcome",
            "step_polynomial"]
 
@@ -58,11 +60,18 @@ class ScipySegment:
     row shorter than ``min_step`` are a collapse (status ``"failed"``): the solution runs
     into a singularity, or the method cannot cope. ``drift(t, y)``: true when the state
     has left its constraints too far (status ``"drift"``: the caller projects it back).
+    The explicit methods take mechdyn's error control
+    (:mod:`mechdyn.simulate.error_control`; ``revolving``: the states weighed on one
+    revolution).
     """
 
     def __init__(self, method, fun, jac, t0, y0, t_bound, rtol, atol, segment, watch=None,
-                 monitor=None, first_step=None, max_step=np.inf, min_step=0.0, drift=None):
+                 monitor=None, first_step=None, max_step=np.inf, min_step=0.0, drift=None,
+                 revolving=()):
         options = {"rtol": rtol, "atol": atol, "max_step": max_step}
+        solver_class = METHODS[method]
+        if method in EXPLICIT:
+            solver_class, options["revolving"] = guarded(method), revolving
         if first_step:
             options["first_step"] = min(first_step, abs(t_bound - t0))
         if jac is not None and method in WITH_JACOBIAN:
@@ -71,8 +80,8 @@ class ScipySegment:
         self.min_step, self.short, self.drift = min_step, 0, drift
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            self.solver = METHODS[method](fun, t0, np.array(y0, dtype=float), t_bound,
-                                          **options)
+            self.solver = solver_class(fun, t0, np.array(y0, dtype=float), t_bound,
+                                       **options)
         self.steps = 0
         if watch is not None:
             watch.start(t0, np.array(y0, dtype=float))

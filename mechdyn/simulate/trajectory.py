@@ -122,6 +122,14 @@ class Segment:
             self._chunks = [self._frozen]
         return self._frozen
 
+    def truncate(self, t_keep):
+        """Drop the steps that end after ``t_keep`` (the start is always kept)."""
+        t, y, c = self.arrays()
+        keep = max(int(np.searchsorted(t, t_keep, side="right")), 1)
+        self._frozen = (t[:keep], y[:keep], c[:keep - 1])
+        self._chunks = [self._frozen]
+        self._t_end, self._y_end, self._steps = float(t[keep - 1]), y[keep - 1], keep - 1
+
 
 class Trajectory:
     """The segments of a run, evaluated anywhere by their step polynomials."""
@@ -134,6 +142,12 @@ class Trajectory:
         self.segments.append(segment)
         self._stacked = None
         return segment
+
+    def truncate(self, t_keep):
+        """Drop everything after the step point ``t_keep``."""
+        self.segments = [s for s in self.segments if s.t_start <= t_keep] or self.segments[:1]
+        self.segments[-1].truncate(t_keep)
+        self._stacked = None
 
     def changed(self):
         """Forget the stacked arrays (steps were added to the last segment)."""

@@ -1,0 +1,107 @@
+"""A sweep's points: what a worker (or the calling process) does with each.
+
+The job (mechanism, scene, fixed values, generated code) is pickled once per sweep and
+unpickled once per worker, whose ``compile_scene`` memory cache then holds the scene's
+generated code and whose kernels load its compiled form from the disk cache
+(:func:`_load_kernels`): a worker neither derives nor compiles. A point's row holds the
+swept values, ``t_end``, ``reason``, the final states, each output's peak and ``error``
+(a failing point's message; the sweep goes on). See :mod:`mechdyn.analyse.sweeps`.
+"""
+from __future__ import annotations
+
+import os
+import pickle
+import signal
+import threading
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+_PARENT_CHECK = 0.5          # s between a worker's checks that its parent still lives
+
+
+@dataclass(frozen=True)
+class _Job:
+    """What every point needs: pickled once per sweep, unpickled once per worker."""
+    mechanism: object
+    scene: object
+    params: dict
+    names: tuple
+    key: str
+    meta: dict
+    source: str
+
+
+_jobs: dict = {}          # per worker process: digest -> _Job
+
+
+def _install(digest, blob):
+    """Unpickle a job once per worker and hand its generated code to compile_scene's
+    memory cache: no derivation, no compilation, no disk in the worker."""
+    job = _jobs.get(digest)
+    if job is None:
+        job = _jobs[digest] = pickle.loads(blob)
+        from mechdyn.compile import compiler as compile_module
+        compiled = compile_module._memory_cache.setdefault(
+            job.key, compile_module.CompiledScene(job.meta, job.source, job.key))
+        _load_kernels(compiled, job.scene)
+    return job
+
+
+def _start_worker(digest, blob):
+    """A local worker: Ctrl-C is the parent's to handle; end with the parent."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    threading.Thread(target=_end_with_parent, args=(os.getppid(),), daemon=True).start()
+    _install(digest, blob)
+
+
+def _end_with_parent(parent):
+    """Exit as soon as the parent process is gone (killed: we were re-parented)."""
+    while os.getppid() == parent:
+        time.sleep(_PARENT_CHECK)
+    os._exit(1)
+
+
+def _run_points(digest, blob, points):
+    """Simulate a batch of grid points in a worker: their rows, and the time taken."""
+    started = time.perf_counter()
+    job = _install(digest, blob) if blob is not None else _jobs[digest]
+    return [_row(job, point) for point in points], time.perf_counter() - started
+
+
+def _row(job, point) -> dict:
+    """One grid point's row; a failure becomes the row's ``error``."""
+    row = dict(zip(job.names, point))
+    try:
+        result = job.mechanism.simulate(job.scene, {**job.params, **row})
+    except Exception as error:          # recorded in the row; the sweep goes on
+        row["error"] = f"{type(error).__name__}: {error}"
+        return row
+    row.update(t_end=result.t_end, reason=result.reason, error="")
+    for name, values in zip(result.state_names, result.y):
+        row[f"final:{name}"] = float(values[-1])
+    for label, value in _peaks(result, job.meta["output_labels"]).items():
+        row[f"peak:{label}"] = value
+    return row
+
+
+def _peaks(result, labels, points=1001) -> dict:
+    """Each output's value of largest magnitude, found on the step points and
+    ``points`` even times between them (dense output); nothing is evaluated when the
+    scene records no outputs."""
+    if not labels:
+        return {}
+    times = result.t
+    if len(times) > 1:
+        times = np.union1d(np.linspace(times[0], times[-1], points), times)
+    series = result.outputs_at(times)
+    return {label: float(v[np.argmax(np.abs(v))]) for label, v in series.items()}
+
+
+def _load_kernels(compiled, scene):
+    """Compile or load the scene's compiled form once in the calling process (the disk
+    cache then serves every worker), where its runs will use it."""
+    if scene.backend != "scipy":
+        from mechdyn.simulate.methods import uses_kernels
+        uses_kernels(compiled, scene.method)

@@ -1,0 +1,82 @@
+"""Comparing derived results with hand formulas as users write them (issue 27 item 2):
+``md.same`` / ``md.difference`` match symbols by name, whatever their assumptions, and
+read coordinates and speeds as the plain symbols results are written in.
+
+The formulas are the textbook ones: the Scotch yoke's reduced inertia
+J_1 + m_3 l^2 sin^2(phi) and moment M_1 - F_3 l sin(phi) (the yoke's x = l cos(phi)).
+"""
+import re
+from pathlib import Path
+
+import sympy as sp
+
+import mechdyn as md
+
+README = Path(__file__).resolve().parents[1] / "README.md"
+
+
+def readme_yoke():
+    """The README's first example, run as written: its names."""
+    block = re.findall(r"```python\n(.*?)```", README.read_text(), re.S)[0]
+    assert "Scotch yoke" in block
+    names = {}
+    exec(compile(block, "README.md", "exec"), names)
+    return names
+
+
+def test_readme_scotch_yoke_equals_the_formula_written_with_plain_symbols():
+    names = readme_yoke()
+    yoke, J1, m3, l = names["yoke"], names["J1"], names["m3"], names["l"]
+    formula = J1 + m3 * l ** 2 * sp.sin(sp.Symbol("phi")) ** 2
+    # sympy alone keeps the two phi apart (the derived one is real): the natural
+    # comparison is md.difference
+    assert sp.simplify(yoke.reduced_inertia() - formula) != 0
+    assert md.difference(yoke.reduced_inertia(), formula) == 0
+    assert md.same(yoke.reduced_inertia(), formula)
+
+
+def test_formula_in_the_declared_coordinate_and_in_symbols_without_assumptions():
+    names = readme_yoke()
+    yoke, phi = names["yoke"], names["phi"]                  # phi = md.coordinate("phi")
+    J1, m3, l, M1, F3 = sp.symbols("J_1 m_3 l M_1 F_3")      # no assumptions
+    assert md.same(yoke.reduced_inertia(), J1 + m3 * l ** 2 * sp.sin(phi) ** 2)
+    assert md.same(yoke.reduced_moment(), M1 - F3 * l * sp.sin(sp.Symbol("phi")))
+
+
+def test_a_wrong_formula_reports_what_is_off():
+    names = readme_yoke()
+    yoke, l, F3, M1 = names["yoke"], names["l"], names["F3"], names["M1"]
+    phi = sp.Symbol("phi")
+    left = md.difference(yoke.reduced_moment(), M1 - F3 * l * sp.sin(phi) / 2)
+    assert not md.same(yoke.reduced_moment(), M1 - F3 * l * sp.sin(phi) / 2)
+    # what is left is the missing half of the resistance, in the user's symbols by name
+    assert md.difference(left, -F3 * l * sp.sin(phi) / 2) == 0
+
+
+def test_speed_dependent_load_with_abs_compares_by_name():
+    # A fan: M = -k |omega| omega. Derived in the real phidot, |phidot| stays an Abs;
+    # the user's sp.Symbol("phidot") (not real) and md.speed(phi) both compare equal.
+    phi = md.coordinate("phi")
+    k, J = sp.symbols("k J", positive=True)
+    fan = md.Mechanism("fan", [phi])
+    fan.link("rotor", J=J, angle=phi)
+    fan.load("air", -k * sp.Abs(md.speed(phi)) * md.speed(phi), along=phi)
+    omega = sp.Symbol("phidot")
+    assert md.same(fan.reduced_moment(), -k * sp.Abs(omega) * omega)
+    assert md.same(fan.reduced_moment(), -k * sp.Abs(md.speed(phi)) * md.speed(phi))
+    assert not md.same(fan.reduced_moment(), -k * omega ** 2)
+
+
+def test_mass_matrix_of_two_coordinates_against_a_hand_matrix():
+    # Disc 2 turns by phi_1 + phi_2 (phi_2 relative to disc 1): T = J1 w1^2/2 +
+    # J2 (w1 + w2)^2/2, so M = [[J1 + J2, J2], [J2, J2]], written in plain symbols.
+    p1, p2 = md.coordinates("phi_1 phi_2")
+    J1, J2 = sp.symbols("J_1 J_2", positive=True)
+    mech = md.Mechanism("two discs", [p1, p2])
+    mech.link("disc 1", J=J1, angle=p1)
+    mech.link("disc 2", J=J2, angle=p1 + p2)
+    hand = sp.Matrix([[sp.Symbol("J_1") + sp.Symbol("J_2"), sp.Symbol("J_2")],
+                      [sp.Symbol("J_2"), sp.Symbol("J_2")]])
+    assert md.same(mech.equations().mass_matrix, hand)
+    assert md.difference(mech.equations().mass_matrix, sp.zeros(2)) == \
+        sp.Matrix([[J1 + J2, J2], [J2, J2]])
