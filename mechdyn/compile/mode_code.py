@@ -31,7 +31,8 @@ __all__ = ["mode_source", "mode_vector", "KIND_CODES"]
 KIND_CODES = {"friction": 0.0, "one_way": 1.0, "contact": 2.0, "gear": 3.0}
 
 _TEMPLATE = '''
-from mechdyn.compile.mode_numerics import constrained, frozen_speeds, group_margins
+from mechdyn.compile.mode_numerics import (constrained, frozen_speeds, group_margins,
+                                           rank_margin)
 import numpy as _np
 
 _LAY = _np.array({layout}, dtype=_np.int64)
@@ -77,6 +78,11 @@ _LOOP_EVENTS = """    minors = _np.empty({minors})
     drift(t, y, p, drifts)
     out[_E + m + 1] = p[at + 1] - drifts[0]
     out[_E + m + 2] = p[at + 2] - drifts[1]
+    out[_E + m + 3] = 1.0                      # every minor large: far from rank loss
+    if _np.abs(minors).max() <= p[at + 3]:
+        if m == 0:
+            terms(t, y, p, buf)
+        out[_E + m + 3] = rank_margin(buf, _LAY) - p[at + 4]
 """
 
 
@@ -86,8 +92,8 @@ def mode_source(meta, n_params, plain=False, minors=0) -> str:
     gear; with closed loops its ``drift`` and ``loop_minors``, ``minors`` of them) of
     ``mode_rhs`` and ``mode_events`` for a scene with metadata ``meta`` and
     ``n_params`` entries of ``p`` (values, friction signs, branch flags). With closed
-    loops ``mode_events`` ends with the watched minor of the loops and the room left to
-    the drifts of their positions and speeds
+    loops ``mode_events`` ends with the watched minor of the loops, the room left to
+    the drifts of their positions and speeds and to the rank margin of their gradients
     (:class:`mechdyn.simulate.loop_watch.LoopWatch`)."""
     from mechdyn.compile.mode_numerics import LAYOUT_NAMES
     offsets = {name: offset for name, offset, _ in meta["terms"]}
@@ -114,8 +120,9 @@ def mode_vector(mode, kinds, frozen, contacts, gap_offsets=None, loops=()) -> li
     parameter vector: the number of stuck groups and their leaders, the held
     coordinates, each group's members ``(element, kind code, alpha)``, the offset of
     every stop limit's gap (``gap_offsets``: by limit, 0 where not given), and with
-    closed loops ``loops``: the watched minor and the drifts allowed to the loops'
-    positions and speeds. ``kinds``: the kind of every element (frictions, then the
+    closed loops ``loops``: the watched minor, the drifts allowed to the loops'
+    positions and speeds, the size of the largest minor under which the rank margin is
+    computed, and the margin's floor. ``kinds``: the kind of every element (frictions, then the
     stops' limits); ``frozen``: the coordinate each element holds (-1: none)."""
     held = [frozen[k] for k in mode.stuck if frozen[k] >= 0]
     out = [float(len(mode.groups))] + [float(g[0][0]) for g in mode.groups]

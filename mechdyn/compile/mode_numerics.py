@@ -24,7 +24,7 @@ from numba import njit
 
 from mechdyn.kernels.linalg import lu_factor, lu_solve
 
-__all__ = ["LAYOUT_NAMES", "constrained", "group_margins", "frozen_speeds"]
+__all__ = ["LAYOUT_NAMES", "constrained", "group_margins", "frozen_speeds", "rank_margin"]
 
 #: the entries of a scene's ``layout`` vector, then its gaps' event indices, then
 #: (friction element, loop constraint) of each lossy gear
@@ -227,3 +227,27 @@ def group_margins(buf, lay, p, x, ok, out):
     for j in range(lay[GAPS]):
         out[lay[HEAD + j]] -= p[at + j]
     return at + lay[GAPS]
+
+
+@njit(cache=True, error_model="numpy")
+def rank_margin(buf, lay):
+    """The smallest singular value of the loops' gradients ``G`` with every column
+    scaled to unit length (:func:`mechdyn.compile.loop_numeric.rank_margin`)."""
+    n, loops = lay[N], lay[L]
+    part = np.empty((loops, n))
+    largest = 0.0
+    norms = np.zeros(n)
+    for j in range(n):
+        for r in range(loops):
+            part[r, j] = buf[lay[LG] + r * n + j]
+            norms[j] += part[r, j] ** 2
+        norms[j] = math.sqrt(norms[j])
+        largest = max(largest, norms[j])
+    for j in range(n):
+        scale = max(norms[j], 1e-12 * max(largest, 1e-300))
+        for r in range(loops):
+            part[r, j] /= scale
+    if not np.all(np.isfinite(part)):
+        return np.nan
+    values = np.linalg.svd(part)[1]
+    return values[loops - 1] if values.shape[0] >= loops else 0.0

@@ -109,6 +109,7 @@ class Driver:
                 if outcome.status == "finished":
                     break
                 if outcome.status == "drift":          # closed loops: back onto them
+                    self.loops.check_margin(t, y, self.modes.p(mode))
                     y = self.modes.project(t, y, mode)
                     self.stats["projections"] = self.stats.get("projections", 0) + 1
                 elif outcome.status == "stiff":

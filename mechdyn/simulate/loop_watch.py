@@ -54,6 +54,11 @@ class LoopWatch:
         speed_scale = 1.0 + float(np.max(np.abs(y0[self.c.dof:])))
         return self.rtol * size, self.rtol * size * speed_scale
 
+    def margin_limits(self) -> tuple:
+        """The size of the largest minor below which the rank margin is computed, and
+        the margin's floor (:meth:`check_margin`)."""
+        return (np.inf if self.scale is None else _PREFILTER * self.scale), self.floor()
+
     def drifted(self, y0, p):
         """``drift(t, y) -> bool`` for a segment starting at ``y0``, or None."""
         if not self.c.constraints:

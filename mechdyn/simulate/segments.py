@@ -109,7 +109,8 @@ def compiled_runner(context, functions, mode, method, t0, y0, t_end, h, watched,
     stuck elements, stop limits, closed loops) the mode's numbers follow the parameters,
     the gaps are watched from their offsets, each stuck group's holding margin follows
     the entries of ``events``, then the loops' watched minor and the room left to their
-    drifts (the last two watched entries: a drift ends the segment for a projection).
+    drifts and to the rank margin of their gradients (the last three watched entries:
+    they end the segment with status "drift", for the rank check and a projection).
     As on scipy, a segment with loops and nothing stuck samples its events at the step
     ends only: the drift is the steps', not the interpolant's. Events of t alone are
     ignored: the driver ends the segment at them."""
@@ -125,8 +126,8 @@ def compiled_runner(context, functions, mode, method, t0, y0, t_end, h, watched,
         loops = ()
         if c.constraints:                  # the watched minor, the drifts allowed
             minor = next(w.index for w in watched if w.kind == "minor")
-            loops = (minor, *context.loops.limits(y0, p))
-            extra = [(size + len(mode.groups) + 1 + k, -1, 1) for k in range(2)]
+            loops = (minor, *context.loops.limits(y0, p), *context.loops.margin_limits())
+            extra = [(size + len(mode.groups) + 1 + k, -1, 1) for k in range(3)]
         p = p + mode_vector(mode, modes.kinds, modes.frozen, modes.contacts, offsets, loops)
         max_step = context.max_step if mode.groups else max_step
     groups = size + len(mode.groups)
@@ -136,7 +137,7 @@ def compiled_runner(context, functions, mode, method, t0, y0, t_end, h, watched,
             else w.index
     spec = [(entry(w), IGNORED if w.timed else w.direction, w.side) for w in watched]
     return CompiledSegment(method, functions, p, t0, y0, t_end, rtol, atol, segment,
-                           spec + extra, groups + (3 if minor is not None else 0),
+                           spec + extra, groups + (4 if minor is not None else 0),
                            first_step=h, max_step=max_step, drift=len(extra),
                            midpoint=bool(mode.groups) or not c.constraints,
                            switch=switch and not mode.groups,
