@@ -213,6 +213,14 @@ def test_a_file_size_limit_degrades_to_no_disk_cache_in_a_real_process(private_c
     def limit():
         signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
         resource.setrlimit(resource.RLIMIT_FSIZE, (64, 64))
+    # numba's cache of mechdyn's own generic compiled code (kernels, mode numerics) is
+    # written once per installation beside the package, not in mechdyn's cache folder:
+    # warm it first, as any run after installing does (a full disk at that first compile
+    # is not what this test is about)
+    subprocess.run([sys.executable, "-m", "mechdyn.cli.command", "simulate",
+                    str(ROOT / "models" / "shoe_brake.py"), "--scene", "braking"],
+                   capture_output=True, text=True, check=True,
+                   env=dict(os.environ, PYTHONPATH=str(ROOT), MECHDYN_CACHE="off"))
     done = subprocess.run([sys.executable, "-m", "mechdyn.cli.command", "simulate",
                            str(ROOT / "models" / "shoe_brake.py"), "--scene", "braking"],
                           capture_output=True, text=True, preexec_fn=limit,
