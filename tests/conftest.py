@@ -1,14 +1,29 @@
-"""Test session setup: a compile cache of the session's own (subprocesses inherit it), so
-tests neither read nor fill the user's ~/.cache/mechdyn (``MECHDYN_CACHE=off``, as the
-mutation runs set it, is kept: no disk cache at all). Registers the hypothesis profile
-``mutation`` (no shrinking, no example database) for benchmarks/mutation.py."""
+"""Test session setup: a compile cache of the tests' own (subprocesses inherit it), so
+tests neither read nor fill the user's ~/.cache/mechdyn: ``~/.cache/mechdyn-tests``,
+kept between sessions (entries are keyed by the generator's source and authenticated,
+so a changed mechdyn never meets a stale entry; numba compiles each scene's modules
+once, not once per session), or a fresh folder of the session's own with
+``MECHDYN_TEST_CACHE=fresh`` (a cold run). ``MECHDYN_CACHE=off``, as the mutation runs
+set it, is kept: no disk cache at all. Registers the hypothesis profile ``mutation``
+(no shrinking, no example database) for benchmarks/mutation.py."""
 import os
 import tempfile
+from pathlib import Path
 
 from hypothesis import Phase, settings
 
+
+def _tests_cache() -> str:
+    if os.environ.get("MECHDYN_TEST_CACHE", "").lower() == "fresh":
+        return tempfile.mkdtemp(prefix="mechdyn-test-cache-")
+    base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
+    folder = base / "mechdyn-tests"
+    folder.mkdir(mode=0o700, parents=True, exist_ok=True)
+    return str(folder)
+
+
 if os.environ.get("MECHDYN_CACHE", "").lower() != "off":
-    os.environ["MECHDYN_CACHE"] = tempfile.mkdtemp(prefix="mechdyn-test-cache-")
+    os.environ["MECHDYN_CACHE"] = _tests_cache()
 
 settings.register_profile("mutation", database=None,
                           phases=[Phase.explicit, Phase.reuse, Phase.generate])
