@@ -113,7 +113,8 @@ def _module_text(sources, names) -> str:
         body.append(text)
     decorations = [f'{name} = njit({"_JAC" if name == "jac" else "_RHS"}, cache=True, '
                    'error_model="numpy")(' + name + ')' for name in names]
-    header = _HEADER + (_ARRAYS if tables or "band_factor(" in "".join(body) else "")
+    banded = any(f"band_{verb}(" in "".join(body) for verb in ("factor", "view"))
+    header = _HEADER + (_ARRAYS if tables or banded else "")
     if "constants" in sources:
         body = [_TABLES + sources["constants"]] + body
     return header + tables_text(tables) + "\n\n" + "\n\n".join(body) + "\n\n" \
