@@ -31,6 +31,11 @@ one ``rhs`` call from a compiled loop (compiled backend) and from Python (the sc
 backend), and the largest difference of their results. (N = 100 is not in the default:
 deriving the relative-angle chain takes minutes, a derivation cost, not the solve's.)
 
+Sparse Jacobian (``--sparse-sizes``): Radau on ``backend="scipy"`` over the chain (a
+diagonal mass matrix), warm runs of one compiled scene: the generated Jacobian handed to
+scipy as a sparse CSC matrix of its structural non-zeros (a sparse LU) against the dense
+array (the code before).
+
 Peers (``--peer-sizes``): sympy's LagrangesMethod (derivation, ``mass_matrix_full`` and
 ``forcing_full``), lambdify with numpy, scipy's DOP853 solving ``M y' = f`` with
 ``numpy.linalg.solve`` per call. PyDy and CasADi (neither a dependency) are not timed
@@ -277,6 +282,30 @@ def measure_constant(n):
     return row
 
 
+def measure_sparse(n):
+    """Radau on scipy over the chain: the Jacobian as a sparse matrix (sparse LU) against
+    the dense one (the code before), the same compiled scene, warm runs."""
+    import numpy as np
+    import mechdyn as md
+    mech, scene, params, phi = chain(n)
+    scene = md.Scene("radau", initial=scene.initial, t_end=T_END, rtol=RTOL, atol=ATOL,
+                     method="Radau", backend="scipy")
+    compiled = mech.compile(scene)
+    pattern, row, ends = compiled.meta["jac_sparsity"], {"n": n}, {}
+    for name in ("sparse", "dense"):
+        if name == "dense":
+            del compiled.meta["jac_sparsity"]
+        mech.simulate(scene, params)
+        start = time.perf_counter()
+        result = mech.simulate(scene, params)
+        row[name] = time.perf_counter() - start
+        row[f"{name}_nlu"] = result.stats["nlu"]
+        ends[name] = np.array([result.final(q) for q in phi])
+    compiled.meta["jac_sparsity"] = pattern
+    row["difference"] = float(np.max(np.abs(ends["sparse"] - ends["dense"])))
+    return row
+
+
 def in_fresh_process(kind, n):
     env = dict(os.environ, MECHDYN_CACHE=tempfile.mkdtemp(prefix="mechdyn-scaling-"),
                PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
@@ -297,11 +326,13 @@ def main():
     parser.add_argument("--sizes", type=int, nargs="*", default=[5, 20, 50, 100, 200])
     parser.add_argument("--peer-sizes", type=int, nargs="*", default=[5, 20, 50])
     parser.add_argument("--constant-sizes", type=int, nargs="*", default=[20, 50])
+    parser.add_argument("--sparse-sizes", type=int, nargs="*", default=[100])
     parser.add_argument("--one", nargs=2, help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.one:
         kind, n = args.one[0], int(args.one[1])
         measure = {"mechdyn": measure_mechdyn, "constant": measure_constant,
+                   "sparse": measure_sparse,
                    "lagranges": measure_lagranges_method}[kind]
         print(json.dumps(measure(n)))
         return
@@ -333,6 +364,15 @@ def main():
                   f"{r['once_python'] * 1e6:.0f} | {r['per_call_python'] * 1e6:.0f} | "
                   f"{r['per_call_python'] / r['once_python']:.1f}x | {r['difference']:.1e} |",
                   flush=True)
+    if args.sparse_sizes:
+        print("\nRadau on backend='scipy' (warm run, s): the Jacobian sparse (sparse LU) "
+              "against dense\n")
+        print("| N | sparse | dense | speed-up | LU factorisations | end difference |")
+        print("|---|---|---|---|---|---|")
+        for n in args.sparse_sizes:
+            r = in_fresh_process("sparse", n)
+            print(f"| {n} | {r['sparse']:.2f} | {r['dense']:.2f} | {r['dense'] / r['sparse']:.1f}x "
+                  f"| {r['sparse_nlu']} / {r['dense_nlu']} | {r['difference']:.1e} |", flush=True)
     if args.peer_sizes:
         print("\npeers (same chain; first run = lambdify excluded, integration only)\n")
         print("| N | peer | derive s | generate s | first run s | warm µs/RHS |")

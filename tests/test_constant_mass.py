@@ -87,3 +87,37 @@ def test_a_run_with_a_constant_mass_matrix_reaches_the_hand_written_solution(n, 
                               rtol=1e-12, atol=1e-13)
         final = [result.final(b) for b in twists] + [result.final(md.speed(b)) for b in twists]
         assert np.allclose(final, reference.y[:, -1], rtol=0, atol=1e-8)
+
+
+# --------------------------------------------- the Jacobian's sparsity for scipy's stiff methods
+def disc_chain(n):
+    angles = md.coordinates(" ".join(f"a{i}" for i in range(n)))
+    mech = md.Mechanism("disc chain", angles)
+    for i, angle in enumerate(angles):
+        mech.link(f"disc {i}", J=sp.Symbol("J", positive=True), angle=angle)
+    for i in range(n - 1):
+        mech.spring(f"shaft {i}", k, stretch=angles[i + 1] - angles[i])
+    return mech, angles
+
+
+@pytest.mark.parametrize("method", ["Radau", "BDF"])
+def test_a_large_chain_runs_with_a_sparse_jacobian_on_scipy_to_its_mode_closed_form(method):
+    """Equal discs J on shafts k started in mode m: ``q_i = A v_i cos(w t)``,
+    ``v_i = cos(pi m (i + 1/2) / n)``, ``w = 2 sqrt(k/J) sin(pi m / (2n))``."""
+    n, mode, amplitude, values = 12, 2, 0.01, {"J": 0.5, "k": 40.0}
+    mech, angles = disc_chain(n)
+    shape = [np.cos(np.pi * mode * (i + 0.5) / n) for i in range(n)]
+    omega = 2 * np.sqrt(values["k"] / values["J"]) * np.sin(np.pi * mode / (2 * n))
+    scene = md.Scene("mode", initial={**{a: amplitude * v for a, v in zip(angles, shape)},
+                                      **{md.speed(a): 0 for a in angles}},
+                     t_end=1.0, rtol=1e-10, atol=1e-13, backend="scipy", method=method)
+    compiled = mech.compile(scene)
+    p = compiled.parameter_vector(values)
+    y = np.random.default_rng(5).normal(size=2 * n)
+    sparse = compiled.sparse_jac(0.0, y, p)
+    assert sparse.nnz == n + 3 * n - 2                 # identity, then a tridiagonal block
+    assert np.array_equal(sparse.toarray(), compiled.jac(0.0, y, p))
+    result = mech.simulate(scene, values)
+    assert result.stats["nlu"] > 0                     # the implicit method factored it
+    for a, v in zip(angles, shape):
+        assert result.final(a) == pytest.approx(amplitude * v * np.cos(omega), abs=1e-8)

@@ -45,7 +45,7 @@ from mechdyn.declare.elements import Constraint
 from mechdyn.compile.output_code import friction_signed, outputs as scene_outputs, slip_signed
 from mechdyn.symbols import t
 from mechdyn.compile.mass_solve import (UNROLLED_LIMIT, _jac_source, _rhs_source, factor_source,
-                                        is_constant)
+                                        is_constant, jacobian_pattern)
 
 __all__ = ["generate"]
 
@@ -135,7 +135,7 @@ def generate(eqs, scene, elements) -> tuple:
     candidates = [*range(len(stops)), *range(first_switch,
                                               first_switch + len(switches.functions))]
     timed = [i for i in candidates if _of_time_alone(event_exprs[i])]   # stops, switches
-    factor_at = None
+    factor_at, pattern = None, None
     if constraints:      # closed loops: rhs solves M a = f + G' lambda, G a = -bias
         from mechdyn.compile.loop_code import loop_sources
         loops = loop_sources(eqs, mass, force, rename, source, states)
@@ -144,6 +144,7 @@ def generate(eqs, scene, elements) -> tuple:
         factor_at = len(parameters) if is_constant(mass) else None
         sources = [_rhs_source(source, mass, force, n, states, coordinates, factor_at),
                    _jac_source(source, mass, force, q_names, u_names, factor_at)]
+        pattern = jacobian_pattern(mass, force, q_names, u_names)
         if factor_at is not None:
             factor, size = factor_source(source, mass)
             sources.append(factor)
@@ -194,6 +195,8 @@ def generate(eqs, scene, elements) -> tuple:
         "rigid": list(eqs.rigid),
         "time_functions": [c.func.__name__ for c in eqs.coordinates],
     }
+    if pattern is not None:
+        meta["jac_sparsity"] = pattern           # [rows, columns] of the non-zero entries
     if factor_at is not None:
         meta["mass_factor"] = mass_factor        # [offset in p, entries]
     if constraints:

@@ -110,6 +110,7 @@ class CompiledScene:
         self.multiplier_outputs = meta.get("multiplier_outputs", {})
         n, m = self.dof, len(self.constraints)
         self.factor_at, self.factor_size = meta.get("mass_factor", (None, 0))
+        self._pattern = tuple(np.array(index) for index in meta.get("jac_sparsity", ([], [])))
         self._sizes.update({"multipliers": m, "closure": 3 * m + m * n, "drift": 2,
                             "loop_minors": math.comb(n, m) if m else 0,
                             "linear_terms": 3 * n * n})
@@ -126,6 +127,16 @@ class CompiledScene:
         out = np.zeros((2 * self.dof, 2 * self.dof))
         self.raw["jac"](t_value, _floats(y), p, out)
         return out
+
+    def sparse_jac(self, t_value, y, p):
+        """:meth:`jac` as a ``scipy.sparse`` CSC matrix of its structurally non-zero
+        entries (``meta["jac_sparsity"]``: a large model with a diagonal mass matrix),
+        so scipy's implicit methods factor it with a sparse LU."""
+        from scipy.sparse import csc_matrix
+        rows, columns = self._pattern
+        size = 2 * self.dof
+        return csc_matrix((self.jac(t_value, y, p)[rows, columns], (rows, columns)),
+                          shape=(size, size))
 
     def terms(self, t_value, y, p) -> dict:
         """The friction modes' pieces by name (:mod:`mechdyn.compile.generate`): ``mass``

@@ -27,7 +27,7 @@ import re
 import sympy as sp
 
 
-__all__ = ["UNROLLED_LIMIT", "half_bandwidth", "is_constant"]
+__all__ = ["UNROLLED_LIMIT", "half_bandwidth", "is_constant", "jacobian_pattern"]
 
 UNROLLED_LIMIT = 8          # DOF up to which the Cholesky solve is unrolled in code
 
@@ -228,6 +228,22 @@ def _banded_jac_source(source, mass, forcing, q_names, u_names, factor_at=None):
                 exprs.append(_derivative(mass[i, j], v))
     body.append(f"band_solve_rows(_m, {bw}, out, {n})")
     return source("jac", exprs, body, lines)
+
+
+def jacobian_pattern(mass, forcing, q_names, u_names):
+    """``[rows, columns]`` of the structurally non-zero entries of a large model's
+    Jacobian whose ``M`` is diagonal (row ``n + i`` holds the variables of ``f_i`` and
+    ``M_ii``), for the sparse LU of scipy's implicit methods; None for a small model or a
+    non-diagonal ``M`` (``M^-1`` couples every row of a chain: the Jacobian is dense)."""
+    n = len(q_names)
+    if n <= UNROLLED_LIMIT or half_bandwidth(mass) > 0:
+        return None
+    column = {v: k for k, v in enumerate((*q_names, *u_names))}
+    entries = [(i, n + i) for i in range(n)]
+    for i in range(n):
+        found = (forcing[i].free_symbols | mass[i, i].free_symbols) & column.keys()
+        entries += [(n + i, k) for k in sorted(column[v] for v in found)]
+    return [[r for r, _ in entries], [c for _, c in entries]]
 
 
 def _derivative(expr, x):
