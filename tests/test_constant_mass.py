@@ -121,3 +121,27 @@ def test_a_large_chain_runs_with_a_sparse_jacobian_on_scipy_to_its_mode_closed_f
     assert result.stats["nlu"] > 0                     # the implicit method factored it
     for a, v in zip(angles, shape):
         assert result.final(a) == pytest.approx(amplitude * v * np.cos(omega), abs=1e-8)
+
+
+@pytest.mark.parametrize("backend", ["scipy", "compiled"])
+def test_a_brake_sliding_on_a_constant_mass_matrix_gives_the_hand_written_motion(backend):
+    """Two discs in relative angles (``M = [[J0 + J1, J1], [J1, J1]]``), a shaft k on the
+    twist, a brake of 2 N m on disc 0 spinning forward all along: ``f = [-2, -k b1]``."""
+    b0, b1 = md.coordinates("b0 b1")
+    mech = md.Mechanism("braked pair", [b0, b1])
+    mech.link("disc 0", J=sp.Symbol("J0", positive=True), angle=b0)
+    mech.link("disc 1", J=sp.Symbol("J1", positive=True), angle=b0 + b1)
+    mech.spring("shaft", k, stretch=b1)
+    mech.friction("brake", 2, along=b0)
+    values = {"J0": 1.0, "J1": 0.5, "k": 30.0}
+    scene = md.Scene("braking", initial={b0: 0, b1: 0.05, md.speed(b0): 5, md.speed(b1): 0},
+                     t_end=1.0, rtol=1e-10, atol=1e-12, backend=backend)
+    result = mech.simulate(scene, values)
+    mass = np.array([[1.5, 0.5], [0.5, 0.5]])
+    reference = solve_ivp(lambda t, y: np.concatenate([y[2:], np.linalg.solve(
+        mass, [-2.0, -values["k"] * y[1]])]), (0.0, 1.0), [0.0, 0.05, 5.0, 0.0],
+        method="DOP853", rtol=1e-12, atol=1e-13, dense_output=True)
+    assert np.all(reference.sol(np.linspace(0, 1, 201))[2] > 1.0)     # disc 0 slides forward
+    final = [result.final(b0), result.final(b1), result.final(md.speed(b0)),
+             result.final(md.speed(b1))]
+    assert np.allclose(final, reference.y[:, -1], rtol=0, atol=1e-8)
