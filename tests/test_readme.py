@@ -22,7 +22,7 @@ def test_there_are_blocks():
     assert len(BLOCKS) >= 8
 
 
-@pytest.mark.parametrize("block", _cases())
+@pytest.mark.parametrize("block", list(_cases()))
 def test_a_readme_block_runs_as_written(block, tmp_path, monkeypatch):
     """... and, doctest-style, a line ``expression  # [shown]`` prints as shown."""
     pytest.importorskip("matplotlib")

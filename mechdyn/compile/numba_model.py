@@ -3,10 +3,12 @@
 The source :mod:`mechdyn.compile.generate` writes runs as plain Python and compiles unchanged
 with numba: ``rhs``, ``events`` and (where it is scalar code) ``jac`` get the kernels'
 signatures (:mod:`mechdyn.kernels.functions`); a large model's code calls the compiled
-banded solves of :mod:`mechdyn.compile.band_linalg`. A scene whose right-hand side calls
-a Python helper (closed loops) has no compiled form and runs on scipy. ``jac`` is a
-module of its own, compiled when first asked for (Rodas5P needs it, DOP853 not): it
-costs about as much as ``rhs`` and ``events`` together.
+banded solves of :mod:`mechdyn.compile.band_linalg`. A scene with friction elements,
+stops or closed loops runs on its mode functions instead (:func:`mode_functions`,
+:mod:`mechdyn.compile.mode_code`), a module of their own. A scene whose right-hand side
+calls a Python helper has no compiled form and runs on scipy. ``jac`` is a module of its
+own, compiled when first asked for (Rodas5P needs it, DOP853 not): it costs about as much
+as ``rhs`` and ``events`` together.
 
 Compiled code is kept on disk, in the trusted cache (:mod:`mechdyn.cache`): the module
 and numba's cache files (pickles, so loading them runs code) go into a folder of their
@@ -26,6 +28,7 @@ from __future__ import annotations
 
 import hashlib
 import importlib.util
+import math
 import shutil
 import sys
 import tempfile
@@ -38,7 +41,7 @@ from mechdyn.atomic import write_text
 from mechdyn.compile.generated import TABLE_HELPERS
 from mechdyn.compile.reroll import rerolled, tables_text
 
-__all__ = ["available", "numba_functions"]
+__all__ = ["available", "numba_functions", "mode_functions"]
 
 _PYTHON_HELPERS = ("numeric_jacobian", "loop_solve", "numeric_minors")
 _ARRAYS = "import numpy as np\nfrom mechdyn.compile.band_linalg import *\n"
@@ -86,6 +89,56 @@ def _functions(compiled, jac):
     return model_functions(core.rhs, analytic, core.events)
 
 
+def mode_functions(compiled, jac=False):
+    """The kernels' functions of a scene's friction modes, stop limits and closed loops
+    (``mode_rhs``, ``mode_events``: :mod:`mechdyn.compile.mode_code`), compiled like
+    :func:`numba_functions`, as a pair of :class:`~mechdyn.kernels.ModelFunctions`:
+    for segments where nothing is stuck (with the analytic Jacobian if ``jac`` and the
+    scene's ``rhs`` and ``jac`` are scalar code), and for the others; None where the
+    scene has none (Python helpers in its ``terms``, ``events`` or loop functions) or
+    numba is missing."""
+    entry = (compiled.key + "-modes", bool(jac))
+    if entry not in _loaded:
+        _loaded[entry] = _mode_functions(compiled, bool(jac))
+    return _loaded[entry]
+
+
+def _mode_functions(compiled, jac):
+    if not available():
+        return None
+    sources = _split(compiled.source)
+    needed = ["terms", "events"] + (["drift", "loop_minors"] if compiled.constraints
+                                    else [])
+    if any(_uses_helpers(sources[name]) for name in needed):
+        return None
+    from mechdyn.compile.mode_code import mode_source
+    from mechdyn.kernels import model_functions
+    n_params = len(compiled.param_names) + len(compiled.frictions) + compiled.flags
+    plain = not _uses_helpers(sources["rhs"])
+    names = needed + (["rhs"] if plain else [])
+    minors = math.comb(compiled.dof, len(compiled.constraints))
+    text = _module_text(sources, names).replace(_HEADER, _HEADER + _kernels_fingerprint())
+    module = _load(compiled.key + "-modes",
+                   text + mode_source(compiled.meta, n_params, plain, minors))
+    analytic = None
+    if jac and plain and not compiled.meta.get("gears") and \
+            not _uses_helpers(sources["jac"]):
+        analytic = _load(compiled.key + "_jac", _module_text(sources, ("jac",))).jac
+    return (model_functions(module.mode_rhs, analytic, module.mode_events),
+            model_functions(module.mode_rhs, None, module.mode_events))
+
+
+def _kernels_fingerprint() -> str:
+    """A comment line with the hash of the generic numerics the mode functions call:
+    numba's cache of a scene's module does not follow edits of the modules it calls, so
+    the module text (whose hash the trusted cache checks) changes with them."""
+    package = Path(__file__).parents[1]
+    digest = hashlib.sha256()
+    for name in ("compile/mode_numerics.py", "kernels/linalg.py"):
+        digest.update((package / name).read_bytes())
+    return f"# generic numerics: {digest.hexdigest()[:16]}\n"
+
+
 def _split(source) -> dict:
     """The generated functions' sources by name."""
     pieces, name = {}, None
@@ -131,6 +184,7 @@ def _load(key, text):
     except OSError:             # a full or size-limited disk: compiled in memory instead
         shutil.rmtree(directory / "numba" / key, ignore_errors=True)
         with suppress(OSError):
+            (directory / "numba" / f"{key}.lock").unlink()
             (directory / "numba").rmdir()                  # if nothing else is in it
         namespace = {"__name__": f"mechdyn_model_{key}"}
         exec(compile(text.replace("cache=True", "cache=False"), f"<mechdyn model {key}>",
@@ -139,9 +193,16 @@ def _load(key, text):
 
 
 def _load_cached(directory, key, text):
-    """The module from the trusted numba folder, compiled into it if needed."""
+    """The module from the trusted numba folder, compiled into it if needed; one process
+    at a time per scene (a sweep's workers load the same scene at once: without the lock
+    one would wipe the folder another is importing from)."""
+    from filelock import FileLock
     (directory / "numba").mkdir(mode=0o700, exist_ok=True)
-    folder = directory / "numba" / key
+    with FileLock(str(directory / "numba" / f"{key}.lock")):
+        return _load_locked(directory / "numba" / key, key, text)
+
+
+def _load_locked(folder, key, text):
     manifest = cache.load(f"numba-{key}.json")
     trusted = manifest is not None and manifest.get("module") == _digest(text.encode()) \
         and _matches(folder, manifest.get("files", {}))

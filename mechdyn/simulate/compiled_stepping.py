@@ -27,14 +27,19 @@ class CompiledSegment:
 
     ``functions``: the scene's :func:`~mechdyn.compile.numba_model.numba_functions`; ``p`` the
     parameter vector; ``watched``: ``(index in events, direction, side while zero)``
-    per watched event, in the order the driver numbers them; ``switch``: whether the
-    kernel may report that the method no longer fits (stiff / not stiff).
+    per watched event, in the order the driver numbers them; the last ``drift`` of them
+    end the segment with status ``"drift"`` (the state left its constraints) when they
+    fire alone; ``switch``: whether the kernel may report that the method no longer
+    fits (stiff / not stiff); ``midpoint``: whether events are also sampled at each
+    step's midpoint (on the interpolant, which may leave the loops' constraints further
+    than the steps do).
     """
 
     def __init__(self, method, functions, p, t0, y0, t_bound, rtol, atol, segment,
                  watched=(), n_events=0, first_step=None, max_step=np.inf, switch=False,
-                 autonomous=False):
+                 autonomous=False, drift=0, midpoint=True):
         self.method, self.segment, self.t_bound = method, segment, t_bound
+        self.events = len(watched) - drift       # the driver's watched events
         directions = np.full(n_events, IGNORED, dtype=np.int64)
         for index, direction, _ in watched:
             directions[index] = direction
@@ -43,7 +48,8 @@ class CompiledSegment:
                                method=KERNEL_METHODS[method], rtol=rtol, atol=atol,
                                directions=directions if n_events else (),
                                h0=first_step or 0.0, max_step=max_step,
-                               autonomous=autonomous, detect_switch=switch)
+                               autonomous=autonomous, detect_switch=switch,
+                               midpoint_events=midpoint)
         if n_events:                   # the side each event counts as while it is zero
             n = len(y0)
             self.run.carry[EVENTS_VALID] = 1.0
@@ -88,7 +94,9 @@ class CompiledSegment:
             return Outcome("chunk", t, y)
         if status == EVENT:
             fired = [k for k, index in enumerate(self.order) if chunk.fired[index] != 0]
-            return Outcome("event", t, y, fired)
+            if fired and fired[0] >= self.events:
+                return Outcome("drift", t, y)
+            return Outcome("event", t, y, [k for k in fired if k < self.events])
         if status in (STIFF, NONSTIFF):
             return Outcome("stiff", t, y)
         return Outcome("failed", t, y, message=f"the compiled {self.method} stopped: "

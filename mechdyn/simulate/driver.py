@@ -110,6 +110,7 @@ class Driver:
                 if outcome.status == "finished":
                     break
                 if outcome.status == "drift":          # closed loops: back onto them
+                    self.loops.check_margin(t, y, self.modes.p(mode))
                     y = self.modes.project(t, y, mode)
                     self.stats["projections"] = self.stats.get("projections", 0) + 1
                 elif outcome.status == "stiff":
@@ -179,8 +180,8 @@ class Driver:
         hold = _HOLD_STEPS if getattr(self, "_settle", False) else 0
         self._settle = False
         if backend == "compiled":
-            run = compiled_runner(self, self.plan.functions_for(method), mode, method, t0,
-                                  y0, t_stop, h, watched, rtol, atol, segment,
+            run = compiled_runner(self, self.plan.functions_for(mode, method), mode, method,
+                                  t0, y0, t_stop, h, watched, rtol, atol, segment,
                                   switch=self.auto)
         else:
             monitor = None

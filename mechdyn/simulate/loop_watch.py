@@ -45,18 +45,29 @@ class LoopWatch:
         self.c, self.rtol = compiled, rtol
         self.scale = None               # size of G's largest minor at the assembled start
 
-    def drifted(self, y0, p):
-        """``drift(t, y) -> bool`` for a segment starting at ``y0``, or None."""
-        if not self.c.constraints:
-            return None
+    def limits(self, y0, p) -> tuple:
+        """The largest drifts of the positions and speeds a segment starting at ``y0``
+        allows (``rtol`` times the loops' size)."""
         from mechdyn.simulate.assembly import closure_parts
         _, grads, _, _ = closure_parts(self.c, 0.0, y0, p)
         size = float(np.max(np.abs(grads)))
         speed_scale = 1.0 + float(np.max(np.abs(y0[self.c.dof:])))
+        return self.rtol * size, self.rtol * size * speed_scale
+
+    def margin_limits(self) -> tuple:
+        """The size of the largest minor below which the rank margin is computed, and
+        the margin's floor (:meth:`check_margin`)."""
+        return (np.inf if self.scale is None else _PREFILTER * self.scale), self.floor()
+
+    def drifted(self, y0, p):
+        """``drift(t, y) -> bool`` for a segment starting at ``y0``, or None."""
+        if not self.c.constraints:
+            return None
+        position_limit, speed_limit = self.limits(y0, p)
 
         def drift(t, y):
             position, speed = self.c.drift(t, y, p)
-            if position > self.rtol * size or speed > self.rtol * size * speed_scale:
+            if position > position_limit or speed > speed_limit:
                 return True
             self.check_margin(t, y, p)
             return False

@@ -28,7 +28,8 @@ import numpy as np
 __all__ = ["choose_method", "explicit_for", "stiff_for", "STIFF", "StiffnessMonitor",
            "fallbacks", "STABILITY_LIMIT", "STIFF_RTOL_FLOOR", "segment_tolerances",
            "motion_jacobian", "backend_plan", "BackendPlan", "BACKENDS", "KERNEL_ONLY",
-           "uses_kernels", "scene_compilable"]
+           "uses_kernels", "has_modes", "compiled_functions",
+           "mode_compilable"]
 
 STIFF = "Radau"
 STIFF_RTOL_FLOOR = 1e-8
@@ -149,11 +150,21 @@ def fallbacks(method, rtol, compiled=False) -> list:
     return [m for m in ladder if m != method]
 
 
-def scene_compilable(compiled) -> bool:
-    """Whether a scene's smooth segments can run on the kernels at all: not with closed
-    loops, stop limits (impacts) or lossy gears, whose segments always run on scipy."""
-    meta = compiled.meta
-    return not (compiled.constraints or meta.get("contacts") or meta.get("gears"))
+def mode_compilable(compiled, mode) -> bool:
+    """Whether a segment with ``mode`` has a compiled form: not where a lossy gear is
+    stuck together with other elements (the share of their holding force is a linear
+    programme, solved on scipy)."""
+    kinds = compiled.meta.get("friction_kinds", [])
+    return not any(len(group) > 1 and any(k < len(kinds) and kinds[k] == "gear"
+                                          for k, _ in group) for group in mode.groups)
+
+
+def has_modes(compiled) -> bool:
+    """Whether a scene's segments run on its mode functions
+    (:mod:`mechdyn.compile.mode_code`) rather than its plain ``rhs``: friction elements
+    (which may stick), stop limits (whose gaps are watched from an offset) or closed
+    loops (their drift and singular positions watched)."""
+    return bool(compiled.frictions or compiled.meta.get("contacts") or compiled.constraints)
 
 
 def uses_kernels(compiled, method) -> bool:
@@ -161,10 +172,16 @@ def uses_kernels(compiled, method) -> bool:
     numba is importable, the scene has a compiled form and the method runs there (the
     rule of :class:`BackendPlan`; the first call may compile the scene, about 0.5 s,
     cached in memory and on disk)."""
-    if method not in ("auto", *_KERNEL) or not scene_compilable(compiled):
+    if method not in ("auto", *_KERNEL):
         return False
-    from mechdyn.compile.numba_model import numba_functions
-    return numba_functions(compiled) is not None
+    return compiled_functions(compiled) is not None
+
+
+def compiled_functions(compiled):
+    """The scene's compiled form: its mode functions where it has modes
+    (:func:`has_modes`), else its plain functions; None where it has none."""
+    from mechdyn.compile.numba_model import mode_functions, numba_functions
+    return mode_functions(compiled) if has_modes(compiled) else numba_functions(compiled)
 
 
 def backend_plan(compiled, method, backend) -> "BackendPlan":
@@ -197,9 +214,11 @@ class BackendPlan:
       and its method may run on them (``"auto"``, DOP853 or Rodas5P: :func:`uses_kernels`);
       otherwise scipy.
 
-    Either way, segments without a compiled form run on scipy, decided by the segment's
-    kind: stuck friction elements, closed loops, stop limits (impacts are jumps of the
-    state) and lossy gears (their loss is decided per step).
+    Scenes with friction elements, one-way clutches, lossy gears, stop limits or closed
+    loops run on their mode functions (:func:`compiled_functions`); the mode
+    decisions, impacts and projections onto the loops stay in Python, between
+    segments. A segment where a lossy gear is stuck together with other elements runs
+    on scipy (:func:`mode_compilable`).
     """
 
     def __init__(self, compiled, method, option):
@@ -218,12 +237,11 @@ class BackendPlan:
         if self.option == "scipy":
             return False
         if self.functions is None:
-            from mechdyn.compile.numba_model import numba_functions
-            self.functions = numba_functions(self.c)
+            self.functions = compiled_functions(self.c)
         return self.functions is not None
 
     def compilable(self, mode) -> bool:
-        return not mode.groups and scene_compilable(self.c)
+        return mode_compilable(self.c, mode)
 
     def method(self, name, mode) -> str:
         """The method a segment runs for a requested one: the kernels' own where they
@@ -236,12 +254,17 @@ class BackendPlan:
             return STIFF
         return name
 
-    def functions_for(self, method):
-        """The compiled functions a segment of ``method`` steps: Rodas5P's with the
-        analytic Jacobian (compiled when first needed), DOP853's without."""
+    def functions_for(self, mode, method):
+        """The compiled functions a segment with ``mode`` and ``method`` steps: Rodas5P's
+        with the analytic Jacobian (compiled when first needed), DOP853's without; of a
+        scene with modes, its mode functions (the Jacobian only where nothing is
+        stuck)."""
+        from mechdyn.compile.numba_model import mode_functions, numba_functions
+        if has_modes(self.c):
+            pair = mode_functions(self.c, jac=method == "Rodas5P")
+            return pair[1 if mode.groups else 0]
         if method != "Rodas5P":
             return self.functions
-        from mechdyn.compile.numba_model import numba_functions
         return numba_functions(self.c, jac=True)
 
     def backend(self, method, mode) -> str:

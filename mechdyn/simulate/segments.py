@@ -105,16 +105,43 @@ def scipy_runner(context, mode, method, t0, y0, t_end, h, watched, rtol, atol, m
 
 def compiled_runner(context, functions, mode, method, t0, y0, t_end, h, watched, rtol,
                     atol, segment, switch):
-    """A :class:`CompiledSegment` (every watched event an entry of ``events``, counting
-    zero as zero: no offset; those of t alone ignored: the driver ends the segment at
-    them)."""
+    """A :class:`CompiledSegment`. On the plain functions every watched event is an
+    entry of ``events``; on the mode functions (:mod:`mechdyn.compile.mode_code`:
+    stuck elements, stop limits, closed loops) the mode's numbers follow the parameters,
+    the gaps are watched from their offsets, each stuck group's holding margin follows
+    the entries of ``events``, then the loops' watched minor and the room left to their
+    drifts and to the rank margin of their gradients (the last three watched entries:
+    they end the segment with status "drift", for the rank check and a projection).
+    As on scipy, a segment with loops and nothing stuck samples its events at the step
+    ends only: the drift is the steps', not the interpolant's. Events of t alone are
+    ignored: the driver ends the segment at them."""
+    from mechdyn.compile.mode_code import mode_vector
     from mechdyn.kernels.layout import IGNORED
     from mechdyn.simulate.compiled_stepping import CompiledSegment
-    c = context.c
-    spec = [(w.index, IGNORED if w.timed else w.direction, w.side) for w in watched]
-    return CompiledSegment(method, functions, context.modes.p(mode), t0, y0, t_end, rtol,
-                           atol, segment, spec, len(c.event_kinds), first_step=h,
-                           max_step=context.period_step, switch=switch,
+    from mechdyn.simulate.methods import has_modes
+    c, modes = context.c, context.modes
+    p, size = modes.p(mode), len(c.event_kinds)
+    max_step, extra, minor = context.period_step, [], None
+    if has_modes(c):
+        offsets = {w.element: w.offset for w in watched if w.kind == "gap"}
+        loops = ()
+        if c.constraints:                  # the watched minor, the drifts allowed
+            minor = next(w.index for w in watched if w.kind == "minor")
+            loops = (minor, *context.loops.limits(y0, p), *context.loops.margin_limits())
+            extra = [(size + len(mode.groups) + 1 + k, -1, 1) for k in range(3)]
+        p = p + mode_vector(mode, modes.kinds, modes.frozen, modes.contacts, offsets, loops)
+        max_step = context.max_step if mode.groups else max_step
+    groups = size + len(mode.groups)
+
+    def entry(w):
+        return size + w.index if w.kind == "release" else groups if w.kind == "minor" \
+            else w.index
+    spec = [(entry(w), IGNORED if w.timed else w.direction, w.side) for w in watched]
+    return CompiledSegment(method, functions, p, t0, y0, t_end, rtol, atol, segment,
+                           spec + extra, groups + (4 if minor is not None else 0),
+                           first_step=h, max_step=max_step, drift=len(extra),
+                           midpoint=bool(mode.groups) or not c.constraints,
+                           switch=switch and not mode.groups,
                            autonomous=c.meta.get("autonomous", False))
 
 

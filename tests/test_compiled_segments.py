@@ -1,0 +1,168 @@
+"""Segments with stuck friction elements, one-way clutches, stops (impacts, resting
+contact), switches and closed loops on the compiled kernels (issue 25): each checked on
+both backends against an independent reference (closed forms worked by hand), and the
+bundled scenes compared between the compiled path and scipy, the reference."""
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+import sympy as sp
+
+import mechdyn as md
+
+BACKENDS = ["auto", "scipy"]
+
+
+def run(model, scene_name, backend, params=None):
+    scene = dataclasses.replace(model.scenes[scene_name], backend=backend)
+    res = model.mechanism.simulate(scene, params or model.params)
+    expected = {"compiled"} if backend == "auto" else {"scipy"}
+    assert set(res.stats["backends"]) == expected, res.stats["backends"]
+    return res
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_a_brake_stops_a_disc_and_then_holds_it_against_a_smaller_load(backend):
+    # J = 2 spinning at 3 rad/s, brake 1.5 N m: sliding, the disc stops at J w0 / T = 4 s;
+    # a load of 1 N m from t = 5 s is below the brake's capacity: held, speed exactly 0.
+    phi = md.coordinate("phi")
+    mech = md.Mechanism("braked disc", [phi])
+    mech.link("disc", J=2, angle=phi)
+    mech.friction("brake", 1.5, along=phi)
+    mech.load("push", sp.Heaviside(md.t - 5), along=phi)
+    scene = md.Scene("stop", initial={phi: 0, md.speed(phi): 3}, t_end=8, backend=backend)
+    res = mech.simulate(scene, {})
+    assert set(res.stats["backends"]) == ({"compiled"} if backend == "auto" else {"scipy"})
+    stick = [e for e in res.events if e.kind == "stick"]
+    assert len(stick) == 1 and stick[0].time == pytest.approx(4.0, rel=1e-10)
+    assert res.final(md.speed(phi)) == 0.0
+    assert res.final(phi) == pytest.approx(3 * 4 / 2, rel=1e-10)     # w0 t / 2
+    assert not [e for e in res.events if e.kind == "slip"]
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_static_friction_holds_until_the_pull_exceeds_it_then_slides(backend):
+    # A block (m = 2) held by friction 3 N (peak 1.5: holds up to 4.5 N) pulled by
+    # F = t N: it breaks away at t = 4.5 s and then accelerates at (t - 3) / 2.
+    x = md.coordinate("x")
+    mech = md.Mechanism("block", [x])
+    mech.link("block", m=2, x=x)
+    mech.friction("floor", 3, along=x, peak=1.5)
+    mech.load("pull", md.t, along=x)
+    scene = md.Scene("pull", initial={x: 0, md.speed(x): 0}, t_end=6, backend=backend)
+    res = mech.simulate(scene, {})
+    slip = [e for e in res.events if e.kind == "slip"]
+    assert len(slip) == 1 and slip[0].time == pytest.approx(4.5, rel=1e-9)
+    # v(6) = integral of (t - 3) / 2 from 4.5 to 6
+    assert res.final(md.speed(x)) == pytest.approx((6**2 - 4.5**2) / 4 - 1.5 * 1.5, rel=1e-9)
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_slider_friction_does_not_stick_at_the_dead_centres(backend):
+    # A crank (J = 0.05, R = 0.1, rod 0.4) coasting from 19.5 rad/s at a dead centre
+    # against 5 N of slider friction: the slider stops at every dead centre while the
+    # crank turns on; the crank stops once F times the slider's path has used up
+    # J w0^2 / 2 = 9.50625 J: 1.90125 m, nine strokes of 0.2 m from the outer dead
+    # centre (x = 0.5) and 0.10125 m out from the inner one (x = 0.3).
+    phi = md.coordinate("phi")
+    x = 0.1 * sp.cos(phi) + sp.sqrt(0.4**2 - 0.1**2 * sp.sin(phi) ** 2)
+    crank = md.Mechanism("slider-crank", [phi])
+    crank.link("crank", J=0.05, angle=phi)
+    crank.link("slider", m=2.0, x=x)
+    crank.friction("slider friction", 5.0, along=x)
+    scene = md.Scene("coast", initial={phi: 0, md.speed(phi): 19.5}, t_end=6,
+                     backend=backend)
+    res = crank.simulate(scene, {})
+    assert set(res.stats["backends"]) == ({"compiled"} if backend == "auto" else {"scipy"})
+    assert [e.kind for e in res.events if e.kind != "slip"] == ["stick"]
+    assert res.final(md.speed(phi)) == 0.0
+    angle = res.final(phi)
+    assert 9 * math.pi < angle < 10 * math.pi
+    position = 0.1 * math.cos(angle) + math.sqrt(0.4**2 - 0.1**2 * math.sin(angle) ** 2)
+    assert position == pytest.approx(0.3 + 0.5 * 0.05 * 19.5**2 / 5.0 - 1.8, rel=1e-8)
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_the_lever_bounces_by_the_law_of_restitution(backend):
+    # models/hard_stop.py: J = 0.02, drive M = 4 from theta_0 = 0.5 to the stop, e = 0.6.
+    J, M, THETA, E = 0.02, 4.0, 0.5, 0.6
+    model = md.load_model("models/hard_stop.py")
+    res = run(model, "bounce", backend)
+    impacts = [e for e in res.events if e.kind == "impact"]
+    t_1 = math.sqrt(2 * J * THETA / M)
+    omega_1 = M * t_1 / J
+    assert impacts[0].time == pytest.approx(t_1, rel=1e-10)
+    assert impacts[0].value == pytest.approx((1 + E) * J * omega_1, rel=1e-10)
+    for k, (a, b) in enumerate(zip(impacts[:5], impacts[1:6])):
+        assert b.value / a.value == pytest.approx(E, rel=1e-8)
+        assert b.time - a.time == pytest.approx(2 * E ** (k + 1) * omega_1 * J / M, rel=1e-8)
+    assert res.events[-1].kind == "contact"
+    assert res.final(md.coordinate("theta")) == pytest.approx(THETA, abs=1e-12)
+    assert res.final("end stop") == pytest.approx(-M, rel=1e-12)
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_the_freewheel_locks_while_pedalling_and_lets_the_wheel_overrun(backend):
+    # models/freewheel.py's docstring: locked, both turn at (M_p - M_r) / (J_h + J_w)
+    # = 112 rad/s^2 up to t_p = 2 s (224 rad/s); then the wheel coasts at -M_r / J_w =
+    # -10 rad/s^2 (144 rad/s at 10 s) and the legs stop the pedals at
+    # t_p + J_h 224 / M_b = 4.24 s.
+    model = md.load_model("models/freewheel.py")
+    res = run(model, "ride", backend)
+    wheel, pedals = md.speed(md.coordinate("phi_w")), md.speed(md.coordinate("phi_h"))
+    assert res.at(1.0, wheel) == pytest.approx(112.0, rel=1e-9)
+    assert res.at(1.0, pedals) == pytest.approx(112.0, rel=1e-9)
+    assert res.final(wheel) == pytest.approx(144.0, rel=1e-9)
+    stops = [e for e in res.events if e.kind == "stick" and e.name == "legs"]
+    assert stops and stops[0].time == pytest.approx(4.24, rel=1e-9)
+    assert res.final(pedals) == 0.0
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_the_worm_hoist_lifts_coasts_up_and_locks(backend):
+    # models/worm_hoist.py's docstring: lifting, the drum accelerates at
+    # (i eta M - m g r) / (J_d + m r^2 + eta i^2 J_m) = 43.8 / 8.9 rad/s^2; with the motor
+    # off at t_m = 1 s it decelerates at m g r / 8.9 = 196.2 / 8.9, stops at
+    # 1 + 43.8 / 196.2 s and stays locked (self-locking: the load cannot drive the worm).
+    model = md.load_model("models/worm_hoist.py")
+    res = run(model, "lift", backend)
+    drum = md.speed(md.coordinate("phi_d"))
+    assert res.at(0.5, drum) == pytest.approx(0.5 * 43.8 / 8.9, rel=1e-9)
+    stop = 1 + 43.8 / 196.2
+    assert res.at(1.1, drum) == pytest.approx(43.8 / 8.9 - 0.1 * 196.2 / 8.9, rel=1e-9)
+    stick = [e for e in res.events if e.kind == "stick"]
+    assert stick and stick[0].time == pytest.approx(stop, rel=1e-9)
+    assert res.final(drum) == 0.0
+
+
+def _compare(model_path, scene_name, rtol):
+    """The compiled path against scipy: same events (kinds, elements; times within
+    ``rtol`` of the run's length), the same final state within ``rtol``."""
+    model = md.load_model(model_path)
+    compiled, reference = run(model, scene_name, "auto"), run(model, scene_name, "scipy")
+    assert [(e.kind, e.name) for e in compiled.events] == \
+        [(e.kind, e.name) for e in reference.events]
+    span = reference.t_end
+    for a, b in zip(compiled.events, reference.events):
+        assert abs(a.time - b.time) <= rtol * span
+    assert compiled.t_end == pytest.approx(reference.t_end, rel=rtol)
+    scale = 1.0 + np.abs(reference.y[:, -1])
+    assert np.all(np.abs(compiled.y[:, -1] - reference.y[:, -1]) <= rtol * scale)
+
+
+@pytest.mark.parametrize("model_path, scene_name", [
+    ("models/shoe_brake.py", "braking"), ("models/clutch_engagement.py", "engage")])
+def test_friction_scenes_agree_with_scipy(model_path, scene_name):
+    _compare(model_path, scene_name, 1e-7)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("model_path, scene_name", [
+    ("models/clutch_engagement.py", "engage_loaded"), ("models/hoist_drive.py", "lower_brake"),
+    ("models/worm_hoist.py", "hold"), ("models/hard_stop.py", "bounce"),
+    ("models/motor_startup.py", "braking"), ("models/press_cycle.py", "startup"),
+    ("models/fourbar_flywheel.py", "startup"), ("models/quick_return.py", "startup"),
+    ("models/watt_sixbar.py", "startup"), ("models/toggle_press.py", "startup")])
+def test_bundled_scenes_agree_with_scipy(model_path, scene_name):
+    _compare(model_path, scene_name, 1e-5)
