@@ -113,7 +113,8 @@ def _mode_functions(compiled, jac):
         return None
     from mechdyn.compile.mode_code import mode_source
     from mechdyn.kernels import model_functions
-    n_params = len(compiled.param_names) + len(compiled.frictions) + compiled.flags
+    n_params = len(compiled.param_names) + len(compiled.frictions) + compiled.flags \
+        + compiled.factor_size                    # a constant mass matrix's factor
     plain = not _uses_helpers(sources["rhs"])
     names = needed + (["rhs"] if plain else [])
     minors = math.comb(compiled.dof, len(compiled.constraints))
