@@ -41,7 +41,7 @@ _N, _NP, _E, _T, _SIZE = {n}, {n_params}, {n_events}, {n_terms}, {size}
 
 @njit(_RHS, cache=True, error_model="numpy")
 def mode_rhs(t, y, p, out):
-{plain_call}    buf = _np.empty(_T)
+{plain_call}    buf = _np.zeros(_T)        # terms writes its non-zero entries only
     x = _np.empty(_SIZE + int(p[_NP]))
     terms(t, y, p, buf)
     ok = constrained(buf, _LAY, p, x)
