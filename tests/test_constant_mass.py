@@ -137,6 +137,7 @@ def test_a_brake_sliding_on_a_constant_mass_matrix_gives_the_hand_written_motion
     scene = md.Scene("braking", initial={b0: 0, b1: 0.05, md.speed(b0): 5, md.speed(b1): 0},
                      t_end=1.0, rtol=1e-10, atol=1e-12, backend=backend)
     result = mech.simulate(scene, values)
+    assert set(result.stats["backends"]) == {backend}      # compiled: the mode modules
     mass = np.array([[1.5, 0.5], [0.5, 0.5]])
     reference = solve_ivp(lambda t, y: np.concatenate([y[2:], np.linalg.solve(
         mass, [-2.0, -values["k"] * y[1]])]), (0.0, 1.0), [0.0, 0.05, 5.0, 0.0],
