@@ -23,6 +23,19 @@ once per installation, is loaded before timing). Columns (wall time):
   compiled loop, without the integrator;
 * the end state's largest difference between mechdyn's run and the floor's run.
 
+A constant mass matrix (``--constant-sizes``): the same discs in relative angles (disc i
+turns by ``b_0 + .. + b_i``: a dense ``M`` of the inertias alone, ``n^3/6`` to factor),
+generated twice in one process: as mechdyn does (``M`` factored once per parameter
+vector, appended to ``p``) and with the factorisation left in ``rhs`` (the code before);
+one ``rhs`` call from a compiled loop (compiled backend) and from Python (the scipy
+backend), and the largest difference of their results. (N = 100 is not in the default:
+deriving the relative-angle chain takes minutes, a derivation cost, not the solve's.)
+
+Sparse Jacobian (``--sparse-sizes``): Radau on ``backend="scipy"`` over the chain (a
+diagonal mass matrix), warm runs of one compiled scene: the generated Jacobian handed to
+scipy as a sparse CSC matrix of its structural non-zeros (a sparse LU) against the dense
+array (the code before).
+
 Peers (``--peer-sizes``): sympy's LagrangesMethod (derivation, ``mass_matrix_full`` and
 ``forcing_full``), lambdify with numpy, scipy's DOP853 solving ``M y' = f`` with
 ``numpy.linalg.solve`` per call. PyDy and CasADi (neither a dependency) are not timed
@@ -224,6 +237,75 @@ def measure_lagranges_method(n):
     return row
 
 
+def relative_chain(n):
+    """The chain in relative angles: a dense constant mass matrix."""
+    import sympy as sp
+    import mechdyn as md
+    twists = md.coordinates(" ".join(f"b{i}" for i in range(n)))
+    mech = md.Mechanism("relative chain", twists)
+    inertias, stiffness = sp.symbols(f"J0:{n}", positive=True), sp.symbols(f"k1:{n}", positive=True)
+    for i in range(n):
+        mech.link(f"disc {i}", J=inertias[i], angle=sum(twists[:i + 1]))
+        if i:
+            mech.spring(f"shaft {i}", stiffness[i - 1], stretch=twists[i])
+    mech.load("drive", 3, along=twists[0])
+    scene = md.Scene("run", initial={**{b: 0 for b in twists}, **{md.speed(b): 0 for b in twists}},
+                     t_end=T_END, rtol=RTOL, atol=ATOL)
+    params = {f"J{i}": 1.0 + 0.01 * i for i in range(n)} | {f"k{i}": 1e3 for i in range(1, n)}
+    return mech, scene, params
+
+
+def measure_constant(n):
+    """rhs with a constant M factored once per parameter vector against factored per call."""
+    import numpy as np
+    import mechdyn.compile.generate as generation
+    from mechdyn.compile.generated import CompiledScene
+    from mechdyn.compile.numba_model import numba_functions
+    mech, scene, params = relative_chain(n)
+    eqs = mech.equations(scene)
+    row, results, hoisting = {"n": n}, {}, generation.is_constant
+    for name in ("once", "per_call"):
+        if name == "per_call":
+            generation.is_constant = lambda mass: False     # the generator before the hoist
+        meta, source = generation.generate(eqs, scene, mech.elements)
+        generation.is_constant = hoisting
+        compiled = CompiledScene(meta, source, f"constant-mass-{name}-{n}")
+        p = compiled.parameter_vector(params)
+        row[f"{name}_compiled"] = rhs_alone(numba_functions(compiled), p, n, calls=2000)
+        y = np.linspace(0.0, 1.0, 2 * n).tolist()
+        compiled.rhs(0.0, y, p)
+        start, calls = time.perf_counter(), 200
+        for _ in range(calls):
+            results[name] = compiled.rhs(0.0, y, p)
+        row[f"{name}_python"] = (time.perf_counter() - start) / calls
+    row["difference"] = float(np.max(np.abs(np.subtract(results["once"], results["per_call"]))))
+    return row
+
+
+def measure_sparse(n):
+    """Radau on scipy over the chain: the Jacobian as a sparse matrix (sparse LU) against
+    the dense one (the code before), the same compiled scene, warm runs."""
+    import numpy as np
+    import mechdyn as md
+    mech, scene, params, phi = chain(n)
+    scene = md.Scene("radau", initial=scene.initial, t_end=T_END, rtol=RTOL, atol=ATOL,
+                     method="Radau", backend="scipy")
+    compiled = mech.compile(scene)
+    pattern, row, ends = compiled.meta["jac_sparsity"], {"n": n}, {}
+    for name in ("sparse", "dense"):
+        if name == "dense":
+            del compiled.meta["jac_sparsity"]
+        mech.simulate(scene, params)
+        start = time.perf_counter()
+        result = mech.simulate(scene, params)
+        row[name] = time.perf_counter() - start
+        row[f"{name}_nlu"] = result.stats["nlu"]
+        ends[name] = np.array([result.final(q) for q in phi])
+    compiled.meta["jac_sparsity"] = pattern
+    row["difference"] = float(np.max(np.abs(ends["sparse"] - ends["dense"])))
+    return row
+
+
 def in_fresh_process(kind, n):
     env = dict(os.environ, MECHDYN_CACHE=tempfile.mkdtemp(prefix="mechdyn-scaling-"),
                PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
@@ -241,13 +323,17 @@ def installed(name):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--sizes", type=int, nargs="+", default=[5, 20, 50, 100, 200])
+    parser.add_argument("--sizes", type=int, nargs="*", default=[5, 20, 50, 100, 200])
     parser.add_argument("--peer-sizes", type=int, nargs="*", default=[5, 20, 50])
+    parser.add_argument("--constant-sizes", type=int, nargs="*", default=[20, 50])
+    parser.add_argument("--sparse-sizes", type=int, nargs="*", default=[100])
     parser.add_argument("--one", nargs=2, help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.one:
         kind, n = args.one[0], int(args.one[1])
-        measure = measure_mechdyn if kind == "mechdyn" else measure_lagranges_method
+        measure = {"mechdyn": measure_mechdyn, "constant": measure_constant,
+                   "sparse": measure_sparse,
+                   "lagranges": measure_lagranges_method}[kind]
         print(json.dumps(measure(n)))
         return
     print(f"chain of N discs, 0-{T_END:g} s, rtol {RTOL:g}; wall times, fresh process and "
@@ -265,6 +351,28 @@ def main():
               f"{r['kernel_per_rhs'] / r['floor_per_rhs']:.1f} | "
               f"{r['rhs_alone'] * 1e6:.3f} ({r['floor_alone'] * 1e6:.3f}) | {r['nfev']} | "
               f"{r['difference']:.1e} |", flush=True)
+    if args.constant_sizes:
+        print("\nconstant mass matrix (relative angles, dense M): one rhs call, µs, M factored "
+              "once per parameter vector vs at every call\n")
+        print("| N | compiled: once | compiled: per call | speed-up | Python (scipy backend): "
+              "once | Python: per call | speed-up | difference |")
+        print("|---|---|---|---|---|---|---|---|")
+        for n in args.constant_sizes:
+            r = in_fresh_process("constant", n)
+            print(f"| {n} | {r['once_compiled'] * 1e6:.2f} | {r['per_call_compiled'] * 1e6:.2f} | "
+                  f"{r['per_call_compiled'] / r['once_compiled']:.1f}x | "
+                  f"{r['once_python'] * 1e6:.0f} | {r['per_call_python'] * 1e6:.0f} | "
+                  f"{r['per_call_python'] / r['once_python']:.1f}x | {r['difference']:.1e} |",
+                  flush=True)
+    if args.sparse_sizes:
+        print("\nRadau on backend='scipy' (warm run, s): the Jacobian sparse (sparse LU) "
+              "against dense\n")
+        print("| N | sparse | dense | speed-up | LU factorisations | end difference |")
+        print("|---|---|---|---|---|---|")
+        for n in args.sparse_sizes:
+            r = in_fresh_process("sparse", n)
+            print(f"| {n} | {r['sparse']:.2f} | {r['dense']:.2f} | {r['dense'] / r['sparse']:.1f}x "
+                  f"| {r['sparse_nlu']} / {r['dense_nlu']} | {r['difference']:.1e} |", flush=True)
     if args.peer_sizes:
         print("\npeers (same chain; first run = lambdify excluded, integration only)\n")
         print("| N | peer | derive s | generate s | first run s | warm µs/RHS |")

@@ -17,7 +17,7 @@ from math import nan, sqrt
 
 from numba import njit
 
-__all__ = ["band_factor", "band_solve", "band_solve_rows"]
+__all__ = ["band_factor", "band_solve", "band_solve_rows", "band_view"]
 
 
 @njit(cache=True, error_model="numpy")
@@ -68,3 +68,10 @@ def band_solve_rows(m, bw, out, first):
             for k in range(i + 1, min(n, i + bw + 1)):
                 total -= m[k, k - i] * out[first + k, c]
             out[first + i, c] = total / m[i, 0]
+
+
+@njit(cache=True)
+def band_view(p, first, n, bw):
+    """The factored band ``n x (bw + 1)`` stored in ``p`` from ``first`` (a constant mass
+    matrix factored once per parameter vector), viewed without a copy."""
+    return p[first:first + n * (bw + 1)].reshape((n, bw + 1))

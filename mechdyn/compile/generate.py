@@ -27,7 +27,11 @@ constraint). The functions:
   in ``p`` after the friction signs (:class:`Switches`); last, the domain conditions
   (:func:`domain_conditions`: an argument that must not be negative for an element's
   expression to have a real value);
-- ``outputs`` (:mod:`mechdyn.compile.output_code`), ``energy`` (``[T, V]``).
+- ``outputs`` (:mod:`mechdyn.compile.output_code`), ``energy`` (``[T, V]``);
+- ``mass_factor`` (a mass matrix of the parameters alone, ``meta["mass_factor"]``:
+  offset in ``p`` and size): its factor, appended to ``p`` once per parameter vector
+  (:meth:`~mechdyn.compile.generated.CompiledScene.mass_factor`) and read by ``rhs``
+  and ``jac``.
 
 A magnitude written with ``|rate|`` of its own sliding rate (Stribeck, tables) is
 compiled with ``sign * rate``: no switching function at zero sliding speed.
@@ -40,7 +44,8 @@ from mechdyn.compile.table_code import table_constants
 from mechdyn.declare.elements import Constraint
 from mechdyn.compile.output_code import friction_signed, outputs as scene_outputs, slip_signed
 from mechdyn.symbols import t
-from mechdyn.compile.mass_solve import UNROLLED_LIMIT, _jac_source, _rhs_source
+from mechdyn.compile.mass_solve import (UNROLLED_LIMIT, _jac_source, _rhs_source, factor_source,
+                                        is_constant, jacobian_pattern)
 
 __all__ = ["generate"]
 
@@ -130,13 +135,20 @@ def generate(eqs, scene, elements) -> tuple:
     candidates = [*range(len(stops)), *range(first_switch,
                                               first_switch + len(switches.functions))]
     timed = [i for i in candidates if _of_time_alone(event_exprs[i])]   # stops, switches
+    factor_at, pattern = None, None
     if constraints:      # closed loops: rhs solves M a = f + G' lambda, G a = -bias
         from mechdyn.compile.loop_code import loop_sources
         loops = loop_sources(eqs, mass, force, rename, source, states)
         sources = [loops.pop("rhs"), loops.pop("jac"), *loops.values()]
-    else:
-        sources = [_rhs_source(source, mass, force, n, states, coordinates),
-                   _jac_source(source, mass, force, q_names, u_names)]
+    else:    # a constant M: factored once per parameter vector, appended to p
+        factor_at = len(parameters) if is_constant(mass) else None
+        sources = [_rhs_source(source, mass, force, n, states, coordinates, factor_at),
+                   _jac_source(source, mass, force, q_names, u_names, factor_at)]
+        pattern = jacobian_pattern(mass, force, q_names, u_names)
+        if factor_at is not None:
+            factor, size = factor_source(source, mass)
+            sources.append(factor)
+            mass_factor = [factor_at, size]
     sources += [
         _terms_source(source, term_exprs),
         source("events", event_exprs, [f"out[{i}] = {{{i}}}" for i in range(len(event_exprs))]),
@@ -183,6 +195,10 @@ def generate(eqs, scene, elements) -> tuple:
         "rigid": list(eqs.rigid),
         "time_functions": [c.func.__name__ for c in eqs.coordinates],
     }
+    if pattern is not None:
+        meta["jac_sparsity"] = pattern           # [rows, columns] of the non-zero entries
+    if factor_at is not None:
+        meta["mass_factor"] = mass_factor        # [offset in p, entries]
     if constraints:
         meta["constraints"] = [c.name for c in constraints]
         meta["loops"] = [next(name for name, e in elements.items() if isinstance(e, Constraint)

@@ -109,6 +109,8 @@ class CompiledScene:
         self.independent = meta.get("independent", list(range(self.dof)))
         self.multiplier_outputs = meta.get("multiplier_outputs", {})
         n, m = self.dof, len(self.constraints)
+        self.factor_at, self.factor_size = meta.get("mass_factor", (None, 0))
+        self._pattern = tuple(np.array(index) for index in meta.get("jac_sparsity", ([], [])))
         self._sizes.update({"multipliers": m, "closure": 3 * m + m * n, "drift": 2,
                             "loop_minors": math.comb(n, m) if m else 0,
                             "linear_terms": 3 * n * n})
@@ -125,6 +127,16 @@ class CompiledScene:
         out = np.zeros((2 * self.dof, 2 * self.dof))
         self.raw["jac"](t_value, _floats(y), p, out)
         return out
+
+    def sparse_jac(self, t_value, y, p):
+        """:meth:`jac` as a ``scipy.sparse`` CSC matrix of its structurally non-zero
+        entries (``meta["jac_sparsity"]``: a large model with a diagonal mass matrix),
+        so scipy's implicit methods factor it with a sparse LU."""
+        from scipy.sparse import csc_matrix
+        rows, columns = self._pattern
+        size = 2 * self.dof
+        return csc_matrix((self.jac(t_value, y, p)[rows, columns], (rows, columns)),
+                          shape=(size, size))
 
     def terms(self, t_value, y, p) -> dict:
         """The friction modes' pieces by name (:mod:`mechdyn.compile.generate`): ``mass``
@@ -187,7 +199,19 @@ class CompiledScene:
         from mechdyn.declare.parameters import ParameterSet        # sympy: only where values are checked
         values = params if isinstance(params, ParameterSet) else ParameterSet(params)
         signs = [0.0] * len(self.frictions) if signs is None else list(signs)
-        return values.vector(self.param_names) + signs + [0.0] * self.flags
+        base = values.vector(self.param_names)
+        return base + signs + [0.0] * self.flags + self.mass_factor(base)
+
+    def mass_factor(self, base) -> list:
+        """The factor of a constant mass matrix at the parameter values ``base`` (``p``
+        without signs and flags), appended to ``p`` after the flags; ``[]`` where ``M``
+        depends on the state or time (factored at every call) or is diagonal."""
+        if self.factor_at is None:
+            return []
+        out = [0.0] * self.factor_size
+        p = list(base) + [0.0] * (self.factor_at - len(base))
+        self.raw["mass_factor"](0.0, [0.0] * (2 * self.dof), p, out)
+        return out
 
     def __getstate__(self):
         """Pickled as its metadata and source (sweep workers, results), compiled again
@@ -213,6 +237,23 @@ def _band_helpers(source) -> dict:
     if "band_factor(" not in source:
         return {}
     from mechdyn.compile import band_linalg
-    return {"np": np, "band_factor": band_linalg.band_factor,
+    return {"np": np, "band_factor": band_linalg.band_factor, "band_view": _BandView(),
             "band_solve": band_linalg.band_solve,
             "band_solve_rows": band_linalg.band_solve_rows}
+
+
+class _BandView:
+    """``band_view(p, first, n, bw)`` for generated code run by Python, where ``p`` is a
+    list: the factored band of a constant mass matrix as an array, converted once per
+    parameter vector (``p`` is built once per segment and never changed in place)."""
+
+    def __init__(self):
+        self.last = (None, None)
+
+    def __call__(self, p, first, n, bw):
+        if type(p) is np.ndarray:
+            return p[first:first + n * (bw + 1)].reshape((n, bw + 1))
+        last = self.last                     # one read: safe when threads share a scene
+        if last[0] is not p:
+            last = self.last = (p, np.array(p[first:first + n * (bw + 1)]).reshape((n, bw + 1)))
+        return last[1]

@@ -9,6 +9,10 @@ and factors it with :mod:`mechdyn.compile.band_linalg` (compiled: ``n bw^2`` wor
 ``n^3``); a diagonal ``M`` is divided, whatever its size. Only non-zero terms are
 generated, so the code grows with the number of non-zero entries, not with ``n^2``.
 
+A mass matrix of the parameters alone (neither coordinates nor time: :func:`is_constant`)
+is factored once per parameter vector by the generated ``mass_factor`` (its entries are
+appended to ``p`` at ``factor_at``); ``rhs`` and ``jac`` then only solve with it.
+
 >>> import sympy as sp
 >>> q = sp.symbols("q0:12")
 >>> mass = sp.diag(*[2 + sp.cos(x) for x in q]) + sp.Matrix(12, 12, lambda i, j:
@@ -18,10 +22,12 @@ generated, so the code grows with the number of non-zero entries, not with ``n^2
 """
 from __future__ import annotations
 
+import re
+
 import sympy as sp
 
 
-__all__ = ["UNROLLED_LIMIT", "half_bandwidth"]
+__all__ = ["UNROLLED_LIMIT", "half_bandwidth", "is_constant", "jacobian_pattern"]
 
 UNROLLED_LIMIT = 8          # DOF up to which the Cholesky solve is unrolled in code
 
@@ -66,40 +72,87 @@ def _lower_names(mass, names):
             for i in range(n) for j in range(i + 1)}
 
 
-def _rhs_source(source, mass, forcing, n, states, coordinates):
-    """dy/dt = [u, M^-1 f] with an unrolled Cholesky solve (banded beyond the limit)."""
+def _rhs_source(source, mass, forcing, n, states, coordinates, factor_at=None):
+    """dy/dt = [u, M^-1 f] with an unrolled Cholesky solve (banded beyond the limit);
+    ``factor_at``: where ``M``'s factor starts in ``p`` (a constant ``M``), else None."""
     speeds = [f"out[{i}] = {states[n + i]}" for i in range(n)]
     bw = half_bandwidth(mass)
     if n > UNROLLED_LIMIT and bw > 0:
-        exprs, lines = _banded_lines(mass, forcing, bw)
+        exprs, lines = _banded_lines(mass, forcing, bw, factor_at)
         body = [f"for _i in range({n}):", f"    out[_i] = y[{n} + _i]",
                 f"    out[{n} + _i] = _a[_i]"]
         return source("rhs", exprs, body, lines)
     names = iter(f"{{{k}}}" for k in range(n * n + n))
     m = _lower_names(mass, names)
-    exprs = [mass[i, j] for (i, j), name in m.items() if name is not None] + list(forcing)
-    f = [next(names) for _ in range(n)]
     if all(m[(i, j)] is None for i in range(n) for j in range(i)):     # diagonal: divide
+        exprs = [mass[i, j] for (i, j), name in m.items() if name is not None] + list(forcing)
+        f = [next(names) for _ in range(n)]
         return source("rhs", exprs, speeds + [
             f"out[{n + i}] = {f[i]} / {m[(i, i)]} if {m[(i, i)]} > 0.0 else nan"
             for i in range(n)])
-    lines, zero = _cholesky_lines(n, m)
+    exprs, lines, m, zero = _factor_lines(mass, factor_at)
+    f = [f"{{{len(exprs) + i}}}" for i in range(n)]
     lines += _solve_lines(n, f, "a", zero)
-    return source("rhs", exprs, speeds + [f"out[{n + i}] = a{i}" for i in range(n)], lines)
+    return source("rhs", exprs + list(forcing),
+                  speeds + [f"out[{n + i}] = a{i}" for i in range(n)], lines)
 
 
-def _jac_source(source, mass, forcing, q_names, u_names):
+def _factor_lines(mass, factor_at):
+    """The mass entries' expressions and the lines binding the unrolled factor ``L``:
+    factored from the entries, or read from ``p`` at ``factor_at`` (a constant ``M``).
+    Returns the expressions, lines, entry names and structural zeros of ``L``."""
+    n = mass.shape[0]
+    m = _lower_names(mass, iter(f"{{{k}}}" for k in range(n * n)))
+    exprs = [mass[i, j] for (i, j), name in m.items() if name is not None]
+    lines, zero = _cholesky_lines(n, m)
+    if factor_at is None:
+        return exprs, lines, m, zero
+    return [], [f"{name} = p[{factor_at + k}]"
+                for k, name in enumerate(_factor_names(n, zero))], m, zero
+
+
+def _factor_names(n, zero) -> list:
+    """The names of the structurally non-zero entries of the unrolled factor, row by row."""
+    return [f"L{i}_{j}" for i in range(n) for j in range(i + 1) if (i, j) not in zero]
+
+
+def is_constant(mass) -> bool:
+    """Whether a (renamed) mass matrix with off-diagonal terms depends on the
+    parameters ``p0, p1, ...`` alone: it is factored once per parameter vector."""
+    n = mass.shape[0]
+    if not any(mass[i, j] != 0 for i in range(n) for j in range(i)):
+        return False                                   # diagonal: a division, nothing to save
+    return all(re.fullmatch(r"p\d+", s.name) for e in mass for s in e.free_symbols)
+
+
+def factor_source(source, mass) -> tuple:
+    """``mass_factor(t, y, p, out)`` writing the factor of a constant ``M`` (the unrolled
+    ``L``'s non-zero entries, or the band ``n x (bw + 1)`` row by row beyond the
+    unrolling limit) and the number of its entries."""
+    n, bw = mass.shape[0], half_bandwidth(mass)
+    if n > UNROLLED_LIMIT:
+        exprs, lines = _banded_lines(mass, [], bw)
+        size = n * (bw + 1)
+        return source("mass_factor", exprs, [f"_f = _m.ravel()", f"for _i in range({size}):",
+                                             "    out[_i] = float(_f[_i])"], lines), size
+    exprs, lines, _, zero = _factor_lines(mass, None)
+    names = _factor_names(n, zero)
+    return source("mass_factor", exprs, [f"out[{k}] = {name}" for k, name in enumerate(names)],
+                  lines), len(names)
+
+
+def _jac_source(source, mass, forcing, q_names, u_names, factor_at=None):
     """The analytic Jacobian ``[[0, I], [da/dq, da/du]]`` with ``da/dq = M^-1 (df/dq -
     dM/dq a)`` and ``da/du = M^-1 df/du``, scalar code with the unrolled Cholesky factor
     up to the unrolling limit; beyond it the pieces, assembled with numpy."""
     n = len(q_names)
     identity = ["out[:, :] = 0.0"] + [f"out[{i}, {n + i}] = 1.0" for i in range(n)]
     if n > UNROLLED_LIMIT:
-        return _banded_jac_source(source, mass, forcing, q_names, u_names)
-    names = iter(f"{{{k}}}" for k in range(2 * n ** 3 + 4 * n * n))
-    m = _lower_names(mass, names)
-    exprs = [mass[i, j] for (i, j), name in m.items() if name is not None] + list(forcing)
-    f = [next(names) for _ in range(n)]
+        return _banded_jac_source(source, mass, forcing, q_names, u_names, factor_at)
+    exprs, lines, _, zero = _factor_lines(mass, factor_at)
+    f = [f"{{{len(exprs) + i}}}" for i in range(n)]
+    exprs += list(forcing)
+    names = iter(f"{{{k}}}" for k in range(len(exprs), len(exprs) + 2 * n ** 3 + 2 * n * n))
     dm, f_q, f_u = [], [], []                      # f_q[k][i] = df_i/dq_k
     for qk in q_names:
         block = [[sp.diff(mass[i, j], qk) for j in range(n)] for i in range(n)]
@@ -110,7 +163,6 @@ def _jac_source(source, mass, forcing, q_names, u_names):
             column = [sp.diff(forcing[i], v) for i in range(n)]
             derivatives.append([None if e == 0 else next(names) for e in column])
             exprs += [e for e in column if e != 0]
-    lines, zero = _cholesky_lines(n, m)
     lines += _solve_lines(n, f, "a", zero)
     body = list(identity)
     for k in range(n):
@@ -131,29 +183,34 @@ def half_bandwidth(mass) -> int:
     return max((i - j for i in range(n) for j in range(i) if mass[i, j] != 0), default=0)
 
 
-def _banded_lines(mass, forcing, bw):
-    """Expressions and lines leaving ``_m`` (the factor of ``M``'s band) and, given the
-    forcing ``f``, ``_a`` (the accelerations ``M^-1 f``); the expressions are the
-    non-zero entries, then ``f``."""
+def _banded_lines(mass, forcing, bw, factor_at=None):
+    """Expressions and lines leaving ``_m`` (the factor of ``M``'s band: computed, or
+    viewed in ``p`` from ``factor_at`` for a constant ``M``) and, given the forcing
+    ``f``, ``_a`` (the accelerations ``M^-1 f``); the expressions are the non-zero
+    entries (none when viewed), then ``f``."""
     n = mass.shape[0]
-    lower = [(i, j) for i in range(n) for j in range(max(0, i - bw), i + 1) if mass[i, j] != 0]
+    if factor_at is not None:
+        lower, lines = [], [f"_m = band_view(p, {factor_at}, {n}, {bw})"]
+    else:
+        lower = [(i, j) for i in range(n) for j in range(max(0, i - bw), i + 1)
+                 if mass[i, j] != 0]
+        lines = [f"_m = np.zeros(({n}, {bw + 1}))"]
+        lines += [f"_m[{i}, {i - j}] = {{{k}}}" for k, (i, j) in enumerate(lower)]
+        lines.append(f"band_factor(_m, {bw})")
     exprs = [mass[i, j] for i, j in lower] + list(forcing)
-    lines = [f"_m = np.zeros(({n}, {bw + 1}))"]
-    lines += [f"_m[{i}, {i - j}] = {{{k}}}" for k, (i, j) in enumerate(lower)]
-    lines.append(f"band_factor(_m, {bw})")
     if len(forcing):
         lines += [f"_a = np.empty({n})"] + [f"_a[{i}] = {{{len(lower) + i}}}" for i in range(n)]
         lines.append(f"band_solve(_m, {bw}, _a)")
     return exprs, lines
 
 
-def _banded_jac_source(source, mass, forcing, q_names, u_names):
+def _banded_jac_source(source, mass, forcing, q_names, u_names, factor_at=None):
     """The Jacobian of a large model: ``[df/dq - dM/dq a, df/du]`` from the non-zero
     derivatives only, then ``M^-1`` applied to its lower half by the banded factor."""
     n = len(q_names)
     bw = half_bandwidth(mass)
     varying = any(e.free_symbols & set(q_names) for e in mass)   # else dM/dq a is zero
-    exprs, lines = _banded_lines(mass, forcing if varying else [], bw)
+    exprs, lines = _banded_lines(mass, forcing if varying else [], bw, factor_at)
     column = {v: k for k, v in enumerate((*q_names, *u_names))}
     body = ["out[:, :] = 0.0", f"for _i in range({n}):", f"    out[_i, {n} + _i] = 1.0"]
     for i in range(n):
@@ -171,6 +228,22 @@ def _banded_jac_source(source, mass, forcing, q_names, u_names):
                 exprs.append(_derivative(mass[i, j], v))
     body.append(f"band_solve_rows(_m, {bw}, out, {n})")
     return source("jac", exprs, body, lines)
+
+
+def jacobian_pattern(mass, forcing, q_names, u_names):
+    """``[rows, columns]`` of the structurally non-zero entries of a large model's
+    Jacobian whose ``M`` is diagonal (row ``n + i`` holds the variables of ``f_i`` and
+    ``M_ii``), for the sparse LU of scipy's implicit methods; None for a small model or a
+    non-diagonal ``M`` (``M^-1`` couples every row of a chain: the Jacobian is dense)."""
+    n = len(q_names)
+    if n <= UNROLLED_LIMIT or half_bandwidth(mass) > 0:
+        return None
+    column = {v: k for k, v in enumerate((*q_names, *u_names))}
+    entries = [(i, n + i) for i in range(n)]
+    for i in range(n):
+        found = (forcing[i].free_symbols | mass[i, i].free_symbols) & column.keys()
+        entries += [(n + i, k) for k in sorted(column[v] for v in found)]
+    return [[r for r, _ in entries], [c for _, c in entries]]
 
 
 def _derivative(expr, x):

@@ -91,7 +91,8 @@ def mode_source(meta, n_params, plain=False, minors=0) -> str:
     ``rhs``, which ``mode_rhs`` calls when nothing is stuck and the scene has no lossy
     gear; with closed loops its ``drift`` and ``loop_minors``, ``minors`` of them) of
     ``mode_rhs`` and ``mode_events`` for a scene with metadata ``meta`` and
-    ``n_params`` entries of ``p`` (values, friction signs, branch flags). With closed
+    ``n_params`` entries of ``p`` (values, friction signs, branch flags, a constant mass
+    matrix's factor). With closed
     loops ``mode_events`` ends with the watched minor of the loops, the room left to
     the drifts of their positions and speeds and to the rank margin of their gradients
     (:class:`mechdyn.simulate.loop_watch.LoopWatch`)."""
@@ -103,8 +104,7 @@ def mode_source(meta, n_params, plain=False, minors=0) -> str:
     values = {"n": n, "frictions": len(meta["frictions"]), "loops": loops,
               "params": n_params, "events": len(meta["events"]),
               "terms": sum(_size(shape) for _, _, shape in meta["terms"]),
-              "first_sign": n_params - len(meta["frictions"]) - sum(
-                  1 for kind, _ in meta["events"] if kind == "switch"),
+              "first_sign": len(meta["param_names"]),
               "gaps": len(gaps), "gears": len(gears)}
     layout = [values[name] if name in values else offsets[name] for name in LAYOUT_NAMES]
     layout += gaps + [index for _, k, c in gears for index in (k, c)]

@@ -113,7 +113,8 @@ def _mode_functions(compiled, jac):
         return None
     from mechdyn.compile.mode_code import mode_source
     from mechdyn.kernels import model_functions
-    n_params = len(compiled.param_names) + len(compiled.frictions) + compiled.flags
+    n_params = len(compiled.param_names) + len(compiled.frictions) + compiled.flags \
+        + compiled.factor_size                    # a constant mass matrix's factor
     plain = not _uses_helpers(sources["rhs"])
     names = needed + (["rhs"] if plain else [])
     minors = math.comb(compiled.dof, len(compiled.constraints))
@@ -166,7 +167,8 @@ def _module_text(sources, names) -> str:
         body.append(text)
     decorations = [f'{name} = njit({"_JAC" if name == "jac" else "_RHS"}, cache=True, '
                    'error_model="numpy")(' + name + ')' for name in names]
-    header = _HEADER + (_ARRAYS if tables or "band_factor(" in "".join(body) else "")
+    banded = any(f"band_{verb}(" in "".join(body) for verb in ("factor", "view"))
+    header = _HEADER + (_ARRAYS if tables or banded else "")
     if "constants" in sources:
         body = [_TABLES + sources["constants"]] + body
     return header + tables_text(tables) + "\n\n" + "\n\n".join(body) + "\n\n" \

@@ -117,6 +117,7 @@ class FrictionModes:
     def __init__(self, compiled, base, span=1.0):
         meta = compiled.meta
         self.c, self.base, self.span = compiled, list(base), span
+        self.factor = compiled.mass_factor(self.base)    # a constant M's, else []
         self.n, self.k = compiled.dof, len(compiled.frictions)
         self.names = compiled.frictions
         self.contact_names = meta.get("contacts", [])
@@ -134,9 +135,10 @@ class FrictionModes:
         return self.k + self.contacts
 
     def p(self, mode: Mode) -> list:
-        """The parameter vector of a mode: values, friction signs, branch flags."""
+        """The parameter vector of a mode: values, friction signs, branch flags (and a
+        constant mass matrix's factor)."""
         return self.base + list(mode.signs or [0.0] * self.k) + \
-            list(mode.flags or [0.0] * self.c.flags)
+            list(mode.flags or [0.0] * self.c.flags) + self.factor
 
     def view(self, t, y, mode) -> StateView:
         return StateView(self, self.c.terms(t, y, self.p(mode)))

@@ -94,7 +94,8 @@ def scipy_runner(context, mode, method, t0, y0, t_end, h, watched, rtol, atol, m
     fun = tolerant(constrained or fast_rhs(c.raw["rhs"], p, size), (size,))
     jac = None
     if method in WITH_JACOBIAN and constrained is None:
-        jac = tolerant(lambda t, y: c.jac(t, y, p), (size, size))
+        sparse = "jac_sparsity" in c.meta and method in ("Radau", "BDF")   # a sparse LU
+        jac = tolerant(lambda t, y: (c.sparse_jac if sparse else c.jac)(t, y, p), (size, size))
     watch = _event_watch(c, modes, mode, p, watched)
     max_step = context.max_step if mode.groups else context.period_step
     return ScipySegment(method, fun, jac, t0, y0, t_end, rtol, atol, segment, watch,
