@@ -1,7 +1,8 @@
 """mechdyn at its defaults beside its peers, in one run, with the machine's default BLAS
 threading: the slider-crank (issue 24) and the N-disc chain (issue 26).
 
-    python benchmarks/peers.py [--repeats 3] [--rtol 1e-8] [--chain 100] [--skip-chain]
+    python benchmarks/peers.py [--repeats 3] [--rtol 1e-8] [--chain 100] [--skip-slider]
+                               [--chain-peers mechdyn lagranges pydy casadi]
 
 Peers: sympy's LagrangesMethod + lambdify + scipy (benchmarks/obvious.py for the
 slider-crank, ``scaling.measure_lagranges_method`` for the chain), PyDy (Kane + Cython
@@ -49,6 +50,7 @@ from kernels import rk4_floor  # noqa: E402
 
 T_END = 5.0
 PEERS = {"PyDy Kane + Cython + odeint": "pydy", "CasADi + cvodes": "casadi"}
+CHAIN_KINDS = ("mechdyn", "lagranges", "pydy", "casadi")
 
 
 def timed(run, repeats):
@@ -170,11 +172,11 @@ def chain_mechdyn(n, repeats):
     floor_p = values["J"] + values["k"] + values["c"] + [values["M"], values["b"]]
     floor, floor_nfev, floor_end = scaling.kernel_run(scaling.floor_functions(), floor_p, n,
                                                       repeats=repeats)
-    return [{"name": f"mechdyn default ({'+'.join(res.stats['backends'])}, "
+    return [{"name": "numba floor (accelerations by hand, DOP853 kernel)", "setup": None,
+             "first": None, "warm": floor, "nfev": floor_nfev, "end": floor_end.tolist()},
+            {"name": f"mechdyn default ({'+'.join(res.stats['backends'])}, "
                      f"{res.stats['method']})", "setup": derive, "first": first,
-             "warm": warm, "nfev": res.stats["nfev"], "end": res.y[:, -1].tolist()},
-            {"name": "numba floor (accelerations by hand, DOP853 kernel)", "setup": None,
-             "first": None, "warm": floor, "nfev": floor_nfev, "end": floor_end.tolist()}]
+             "warm": warm, "nfev": res.stats["nfev"], "end": res.y[:, -1].tolist()}]
 
 
 def chain_lagranges(n, repeats):
@@ -204,25 +206,39 @@ def chain_in_fresh_process(kind, n, repeats):
     return json.loads(done.stdout.strip().splitlines()[-1])
 
 
-def chain_table(rows, n):
-    floor = next(r for r in rows if r["name"].startswith("numba floor"))
-    lines = [f"chain of {n} discs, 0-{scaling.T_END:g} s, rtol {scaling.RTOL:g}, atol "
-             f"{scaling.ATOL:g}; each peer in a fresh process (mechdyn: empty cache); "
-             "derive includes code generation", "",
-             "| path | derive + generate s | first run s | warm run s | RHS evals | "
-             "µs / RHS | x floor / RHS | end vs floor |", "|---|---|---|---|---|---|---|---|"]
-    floor_per = floor["warm"] / floor["nfev"]
-    for r in rows:
-        if r["warm"] is None:
-            lines.append(f"| {r['name']} | - | - | - | - | - | - | - |")
-            continue
-        per = r["warm"] / r["nfev"]
-        diff = ("-" if r["end"] is None else
-                f"{np.max(np.abs(np.asarray(r['end']) - np.asarray(floor['end']))):.1e}")
-        lines.append(f"| {r['name']} | {_s(r['setup'])} | {_s(r['first'])} | "
-                     f"{r['warm']:.4f} | {r['nfev']} | {per * 1e6:.1f} | "
-                     f"{per / floor_per:.1f} | {diff} |")
-    return "\n".join(lines)
+def chain_header(n):
+    return "\n".join([
+        f"chain of {n} discs, 0-{scaling.T_END:g} s, rtol {scaling.RTOL:g}, atol "
+        f"{scaling.ATOL:g}; each peer in a fresh process (mechdyn: empty cache); derive "
+        "includes code generation (mechdyn's: in its first run)", "",
+        "| path | derive + generate s | first run s | warm run s | RHS evals | µs / RHS | "
+        "x floor / RHS | end vs floor |", "|---|---|---|---|---|---|---|---|"])
+
+
+def chain_line(r, floor):
+    """One row of the chain table; ``floor`` the floor's row (or None)."""
+    if r["warm"] is None:
+        return f"| {r['name']} | - | - | - | - | - | - | - |"
+    per = r["warm"] / r["nfev"]
+    ratio = "-" if floor is None else f"{per / (floor['warm'] / floor['nfev']):.1f}"
+    diff = ("-" if r["end"] is None or floor is None else
+            f"{np.max(np.abs(np.asarray(r['end']) - np.asarray(floor['end']))):.1e}")
+    return (f"| {r['name']} | {_s(r['setup'])} | {_s(r['first'])} | {r['warm']:.4f} | "
+            f"{r['nfev']} | {per * 1e6:.1f} | {ratio} | {diff} |")
+
+
+def chain_rows(kinds, n, repeats):
+    """Each peer's rows in a fresh process, printed as they come."""
+    print("\n" + chain_header(n), flush=True)
+    floor = None
+    for kind in kinds:
+        if kind in PEERS.values() and importlib.util.find_spec(kind) is None:
+            rows = [{"name": f"{kind}: not installed", "warm": None}]
+        else:
+            rows = chain_in_fresh_process(kind, n, repeats)
+        for r in rows:
+            floor = r if r["name"].startswith("numba floor") else floor
+            print(chain_line(r, floor), flush=True)
 
 
 def main(argv=None):
@@ -230,7 +246,9 @@ def main(argv=None):
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--rtol", type=float, default=1e-8)
     parser.add_argument("--chain", type=int, default=100, help="discs in the chain")
-    parser.add_argument("--skip-chain", action="store_true")
+    parser.add_argument("--chain-peers", nargs="*", default=list(CHAIN_KINDS),
+                        choices=CHAIN_KINDS, help="which chain rows to run (none: skip)")
+    parser.add_argument("--skip-slider", action="store_true")
     parser.add_argument("--chain-one", nargs=2, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.chain_one:
@@ -241,19 +259,14 @@ def main(argv=None):
         return
     print(f"load average at the start: {os.getloadavg()[0]:.2f}; "
           f"{os.cpu_count()} CPUs; default BLAS threading\n")
-    rows, exact = mechdyn_rows(args.rtol, args.repeats)
-    rows += lambdify_rows(args.rtol, args.repeats)
-    rows += peer_rows(lambda module: getattr(peer_models, f"{module}_slider_crank"), T_END,
-                      args.rtol, args.rtol / 100, repeats=args.repeats)
-    print(slider_table(rows, exact, args.rtol), flush=True)
-    if not args.skip_chain:
-        chain_rows = []
-        for kind in ("mechdyn", "lagranges", "pydy", "casadi"):
-            if kind in ("pydy", "casadi") and importlib.util.find_spec(kind) is None:
-                chain_rows.append({"name": f"{kind}: not installed", "warm": None})
-                continue
-            chain_rows += chain_in_fresh_process(kind, args.chain, args.repeats)
-        print("\n" + chain_table(chain_rows, args.chain))
+    if not args.skip_slider:
+        rows, exact = mechdyn_rows(args.rtol, args.repeats)
+        rows += lambdify_rows(args.rtol, args.repeats)
+        rows += peer_rows(lambda module: getattr(peer_models, f"{module}_slider_crank"),
+                          T_END, args.rtol, args.rtol / 100, repeats=args.repeats)
+        print(slider_table(rows, exact, args.rtol), flush=True)
+    if args.chain_peers:
+        chain_rows(args.chain_peers, args.chain, args.repeats)
     print(f"\nload average at the end: {os.getloadavg()[0]:.2f}")
 
 
