@@ -73,7 +73,27 @@ def one_scene(model_path, scene_name, repeats):
     return {"load": loaded - started, "derive": derived - loaded,
             "compile": generated - derived, "rhs": rhs, "simulate": min(runs),
             "method": result.stats["method"], "steps": result.stats["steps"],
-            "backends": "+".join(result.stats["backends"])}
+            "nfev": result.stats["nfev"], "backends": "+".join(result.stats["backends"]),
+            "floor": floor_time(compiled, model.params, result, repeats)}
+
+
+def floor_time(compiled, params, result, repeats):
+    """The numba RK4 floor (benchmarks/kernels.py) with the scene's compiled RHS and as
+    many RHS evaluations as ``result``; None without a compiled form."""
+    import numpy as np
+    from kernels import best_time, rk4_floor
+    from mechdyn.compile.numba_model import numba_functions
+    functions = numba_functions(compiled)
+    if functions is None:
+        return None
+    p = np.asarray(compiled.parameter_vector(params), dtype=float)
+    slots = len(compiled.param_names)                 # friction signs: sliding forward
+    p[slots:slots + len(compiled.frictions)] = 1.0
+    y0 = np.ascontiguousarray(result.y[:, 0], dtype=float)
+    steps = max(1, result.stats["nfev"] // 4)
+    floor = rk4_floor(functions.rhs)
+    floor(y0, p, result.t_end, 1)                     # numba compiles
+    return best_time(lambda: floor(y0, p, result.t_end, steps), max(repeats, 3))[0]
 
 
 SKIPPED = []     # (model file, why) of bundled models that do not load
@@ -95,8 +115,8 @@ def stage_table(repeats):
     lines = [f"Yardstick `python -c \"import numpy, scipy.integrate\"`: {base:.2f} s "
              "(median of 5).", "",
              "| model / scene | derive ms | compile ms | RHS us | simulate ms (method, "
-             "steps, backend) | cold s | warm s | warm / yardstick |",
-             "|---|---|---|---|---|---|---|---|"]
+             "steps, backend) | floor ms | x floor | cold s | warm s | warm / yardstick |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
     worst = 0.0
     for path, name in bundled_scenes():
         with tempfile.TemporaryDirectory() as cache:
@@ -106,7 +126,7 @@ def stage_table(repeats):
                                   capture_output=True, text=True)
         if done.returncode:
             lines.append(f"| {path.stem} / {name} | failed: "
-                         f"{done.stderr.strip().splitlines()[-1][:80]} | | | | | | |")
+                         f"{done.stderr.strip().splitlines()[-1][:80]} | | | | | | | | |")
             continue
         s = json.loads(done.stdout.strip().splitlines()[-1])
         cold, warm = process.whole_process(path, name, repeats)
@@ -114,10 +134,30 @@ def stage_table(repeats):
         lines.append(f"| {path.stem} / {name} | {s['derive'] * 1e3:.0f} | "
                      f"{s['compile'] * 1e3:.0f} | {s['rhs'] * 1e6:.1f} | "
                      f"{s['simulate'] * 1e3:.1f} ({s['method']}, {s['steps']}, "
-                     f"{s['backends']}) | {cold:.2f} | {warm:.2f} | {warm / base:.2f}x |")
+                     f"{s['backends']}) | {_floor_cells(s)} | {cold:.2f} | {warm:.2f} | "
+                     f"{warm / base:.2f}x |")
         print(lines[-1], flush=True)
     lines += ["", f"Worst warm process: {worst:.2f}x the yardstick (unpaired medians)."]
     return "\n".join(lines)
+
+
+def _floor_cells(s):
+    if s["floor"] is None:
+        return "no compiled form | -"
+    return f"{s['floor'] * 1e3:.2f} | {s['simulate'] / s['floor']:.1f}x"
+
+
+def previous_section(previous_text, title):
+    """A section of the previous RESULTS.md kept when its part is skipped, marked as such."""
+    match = re.search(rf"^## {re.escape(title)}.*?(?=^## |\Z)", previous_text,
+                      re.S | re.M)
+    if not match:
+        return []
+    stamp = re.search(r"\d{4}-\d\d-\d\d \d\d:\d\d", previous_text)
+    body = match.group(0).strip().split("\n", 1)
+    return [body[0], "", f"*Not regenerated in this run: from the previous run "
+            f"({stamp.group(0) if stamp else 'undated'}), its own settings.*",
+            body[1] if len(body) > 1 else "", ""]
 
 
 # ------------------------------------------------------------ 7. method selection
@@ -304,7 +344,9 @@ def main(argv=None):
     print("every bundled scene ...", flush=True)
     sections += ["## Every bundled scene: stages and whole process", "",
                  "Derive, compile and RHS in a fresh process with an empty cache; simulate: "
-                 "min of repeats at the scene's own method and tolerances (backend auto); "
+                 "min of repeats at the scene's own method and tolerances, default settings "
+                 "(backend auto); floor: a numba RK4 loop with the scene's compiled RHS and "
+                 "as many RHS evaluations as that run, in the same process; "
                  "cold/warm: `python -m mechdyn.cli.command simulate MODEL --scene NAME`, medians.",
                  "", stage_table(args.repeats), ""]
     if not args.skip_methods:
@@ -316,6 +358,8 @@ def main(argv=None):
                      "'-': no run meets it or the target is below the reference agreement). "
                      "Last column: what method=\"auto\" picks and how much slower it is.", "",
                      method_table(args.repeats), ""]
+    else:
+        sections += previous_section(previous, "Method selection")
     if not args.skip_hard_cases:
         print("hard-case matrix ...", flush=True)
         import hard_case_matrix
@@ -324,13 +368,17 @@ def main(argv=None):
                      "`method=\"auto\"` at the default tolerances; the whole matrix (each "
                      "method at rtol 1e-10, 1e-8, 1e-6) is in benchmarks/HARD_CASES.md.", "",
                      hard_case_matrix.headline(rows), ""]
+    else:
+        sections += previous_section(previous, "Hard cases")
     sections += [f"Skipped (model file did not load): {name}: {why}"
                  for name, why in dict(SKIPPED).items()]
     parts = ["# mechdyn benchmarks", "",
              f"Written by `python benchmarks/run_all.py` ({started} to "
              f"{time.strftime('%H:%M')}). {header()}; load average {load_start:.1f} at the "
              f"start, {load():.1f} at the end (a shared machine: absolute times carry its "
-             "load, ratios of runs made close together less so).", "",
+             "load, ratios of runs made close together less so). mechdyn runs at its "
+             "default settings (`backend=\"auto\"`, `method=\"auto\"`) unless a row "
+             "names another.", "",
              "## Headline", "", headline(machines, proc, through, sweep_rows, chain), ""]
     results.write_text("\n".join(parts + sections))
     print(f"wrote {results}")
