@@ -32,10 +32,8 @@ T_END = {"slider_crank": 5.0, "elastic_drive": 0.5, "shoe_brake": 60.0}
 STATES = {"slider_crank": 2, "elastic_drive": 6, "shoe_brake": 2}
 
 
-def slider_crank_equations():
-    """LagrangesMethod of the exact slider-crank: (method, q, parameter symbols)."""
-    q = dynamicsymbols("phi")
-    r, L, J_1, m_2, J_2, m_3, M_0, omega_0 = sp.symbols(list(SLIDER_CRANK))
+def slider_crank_bodies(q, r, L, J_1, m_2, J_2, m_3):
+    """The exact slider-crank in sympy.physics.mechanics: ``(N, crank frame, bodies)``."""
     N = ReferenceFrame("N")
     crank, rod = ReferenceFrame("A"), ReferenceFrame("B")
     crank.orient_axis(N, N.z, q)
@@ -50,6 +48,14 @@ def slider_crank_equations():
     bodies = [RigidBody("crank", O, crank, 0, (inertia(crank, 0, 0, J_1), O)),
               RigidBody("rod", middle, rod, m_2, (inertia(rod, 0, 0, J_2), middle)),
               Particle("slider", slider, m_3)]
+    return N, crank, bodies
+
+
+def slider_crank_equations():
+    """LagrangesMethod of the exact slider-crank: (method, q, parameter symbols)."""
+    q = dynamicsymbols("phi")
+    r, L, J_1, m_2, J_2, m_3, M_0, omega_0 = sp.symbols(list(SLIDER_CRANK))
+    N, crank, bodies = slider_crank_bodies(q, r, L, J_1, m_2, J_2, m_3)
     moment = M_0 * (1 - q.diff() / omega_0)
     method = LagrangesMethod(Lagrangian(N, *bodies), [q], forcelist=[(crank, moment * N.z)],
                              frame=N)

@@ -38,24 +38,11 @@ def _pydy_run(kane, q, u, constants, values, t_end, rtol, atol):
 
 def pydy_slider_crank(t_end, rtol, atol):
     """Kane's method of the exact slider-crank (positions as functions of phi)."""
-    from sympy.physics.mechanics import (KanesMethod, Particle, Point, ReferenceFrame,
-                                         RigidBody, dynamicsymbols, inertia)
+    from sympy.physics.mechanics import KanesMethod, dynamicsymbols
     start = time.perf_counter()
     q, u = dynamicsymbols("phi omega")
     r, L, J_1, m_2, J_2, m_3, M_0, omega_0 = constants = sp.symbols(SLIDER_NAMES)
-    N, crank, rod = ReferenceFrame("N"), ReferenceFrame("A"), ReferenceFrame("B")
-    crank.orient_axis(N, N.z, q)
-    rod.orient_axis(N, N.z, -sp.asin(r * sp.sin(q) / L))
-    O = Point("O")
-    O.set_vel(N, 0)
-    pin = O.locatenew("P", r * crank.x)
-    slider = O.locatenew("C", (r * sp.cos(q) + sp.sqrt(L**2 - r**2 * sp.sin(q)**2)) * N.x)
-    middle = O.locatenew("G", (pin.pos_from(O) + slider.pos_from(O)) / 2)
-    for point in (pin, slider, middle):
-        point.set_vel(N, point.pos_from(O).dt(N))
-    bodies = [RigidBody("crank", O, crank, 0, (inertia(crank, 0, 0, J_1), O)),
-              RigidBody("rod", middle, rod, m_2, (inertia(rod, 0, 0, J_2), middle)),
-              Particle("slider", slider, m_3)]
+    N, crank, bodies = obvious.slider_crank_bodies(q, r, L, J_1, m_2, J_2, m_3)
     kane = KanesMethod(N, [q], [u], kd_eqs=[q.diff() - u])
     kane.kanes_equations(bodies, [(crank, M_0 * (1 - u / omega_0) * N.z)])
     kane.mass_matrix_full, kane.forcing_full                       # formed here
