@@ -303,17 +303,17 @@ class FrictionModes:
         g = view.gradients[leaders]
         if self.c.constraints:
             loops = view.terms["constraint_gradient"]
-            rows = np.vstack([loops, g])
+            held = np.vstack([loops, g])
             residual = np.concatenate([loops @ y[self.n:] + view.terms["constraint_rate"],
                                        view.rates[leaders]])
-            y[self.n:] -= np.linalg.lstsq(rows, residual, rcond=None)[0]
+            y[self.n:] -= np.linalg.lstsq(held, residual, rcond=None)[0]
         else:
+            held = g
             w = np.linalg.solve(view.mass, g.T)
             y[self.n:] -= w @ np.linalg.solve(g @ w, view.rates[leaders])
         for k in mode.stuck:
             if self.frozen[k] >= 0:
                 y[self.n + self.frozen[k]] = 0.0
-        held = np.vstack([view.terms["constraint_gradient"], g]) if self.c.constraints else g
         if np.linalg.matrix_rank(held) == self.n:
             y[self.n:] = 0.0    # nothing can move: at rest exactly, not within rounding
         return y
