@@ -4,7 +4,8 @@
 
 - **At the start of every segment** (the run's start and after every event: a friction
   mode change, a switch of a ``Piecewise``) the eigenvalues of the analytic Jacobian are
-  measured against the run's slowest time scale (:func:`choose_method`): damped fast
+  measured against the run's slowest time scale (:func:`choose_method`; above
+  64 states estimated, :mod:`mechdyn.simulate.spectrum`): damped fast
   modes are stiff; undamped fast modes are real oscillations, resolved by the explicit
   method at tight tolerances and stepped over by the stiff one at loose tolerances.
 - **During a segment** a :class:`StiffnessMonitor` compares ``h rho(J)`` with the
@@ -24,6 +25,8 @@
 from __future__ import annotations
 
 import numpy as np
+
+from mechdyn.simulate.spectrum import measures, spectral_radius
 
 __all__ = ["choose_method", "explicit_for", "stiff_for", "STIFF", "StiffnessMonitor",
            "fallbacks", "STABILITY_LIMIT", "STIFF_RTOL_FLOOR", "segment_tolerances",
@@ -84,9 +87,8 @@ def choose_method(compiled, p, y0, t0, t_limit, rtol) -> tuple:
         return explicit, "the Jacobian cannot be evaluated at the start"
     if not np.all(np.isfinite(jacobian)):
         return explicit, "the Jacobian is not finite at the start"
-    eigenvalues = np.linalg.eigvals(jacobian)
-    magnitude = np.abs(eigenvalues)
-    fastest = magnitude.max(initial=0.0)
+    fastest, damped, slow = measures(jacobian)
+    magnitude = np.abs(slow)
     # A rigid-body mode is a double zero eigenvalue (a Jordan block): eig perturbs it by
     # about sqrt(eps) * |J|, far above eps, so "zero" is judged near sqrt(eps).
     nonzero = magnitude[magnitude > max(fastest, 1.0) * 1e-7]
@@ -95,7 +97,6 @@ def choose_method(compiled, p, y0, t0, t_limit, rtol) -> tuple:
         slowest = nonzero.min()
     elif len(nonzero):
         slowest = max(slowest, min(nonzero.min(), 1.0))
-    damped = np.max(-eigenvalues.real, initial=0.0)
     if damped / slowest > _STIFFNESS_LIMIT:
         return STIFF, f"damped modes {damped / slowest:.3g} times faster than the motion"
     if fastest / slowest > _STIFFNESS_LIMIT and rtol >= 1e-6:
@@ -125,7 +126,7 @@ class StiffnessMonitor:
             return False
         try:
             matrix = self.jacobian(t, y)
-            rho = float(np.max(np.abs(np.linalg.eigvals(matrix))))
+            rho = spectral_radius(matrix)
         except (ArithmeticError, ValueError, np.linalg.LinAlgError):
             return False
         self.last = h * rho
