@@ -148,6 +148,7 @@ def facts_of(mechanism) -> MechanismFacts:
 
 
 @functools.lru_cache(maxsize=4096)
+@functools.lru_cache(maxsize=4096)
 def _true_facts(symbol) -> tuple:
     """The checked assumptions (see ``_FACTS``) that hold for ``symbol``."""
     assumed = symbol.assumptions0

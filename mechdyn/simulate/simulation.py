@@ -110,9 +110,9 @@ def given_initial(compiled, mechanism, scene, params) -> dict:
         slots[("q", name)] = i
         slots[("u", name)] = n + i
     values = {str(k): v for k, v in params.items()}
-    given = {}
+    given, known = {}, _known_slots(mechanism, scene)
     for key, value in scene.initial.items():
-        slot = _initial_slot(key, declared, scene)
+        slot = known.get(key) or known.setdefault(key, _initial_slot(key, declared, scene))
         if slot[1] not in compiled.coordinates:
             continue                                  # a coordinate made rigid
         expr = value if isinstance(value, sp.Basic) else None
@@ -156,6 +156,16 @@ def initial_state(compiled, mechanism, scene, params) -> np.ndarray:
         return assemble(compiled, y0, compiled.parameter_vector(params), scene.t_start,
                         scene.name, [i for i in solved if not np.isnan(y0[i])])
     return y0
+
+
+def _known_slots(mechanism, scene) -> dict:
+    """The slots of the scene's initial-value keys found so far (remembered per scene:
+    a large model's run otherwise spends a good part of its time classifying keys)."""
+    hit = mechanism._memo.get(("slots", id(scene)))
+    if hit is None or hit[0] is not scene:
+        hit = (scene, {})
+        mechanism._memo[("slots", id(scene))] = hit
+    return hit[1]
 
 
 def _initial_slot(key, declared, scene, what="initial value"):
