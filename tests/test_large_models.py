@@ -19,6 +19,7 @@ import sympy as sp
 from scipy.integrate import solve_ivp
 
 import mechdyn as md
+from mechdyn.simulate.methods import choose_method
 
 N = 12
 J, k, m, r, c = sp.symbols("J k m r c", positive=True)
@@ -155,3 +156,27 @@ def test_a_mass_matrix_that_is_not_positive_definite_gives_nan_not_numbers():
     p = compiled.parameter_vector(VALUES)
     p[compiled.param_names.index("J")] = -5.0       # bypasses the parameter checks
     assert all(math.isnan(v) for v in compiled.rhs(0.0, STATES[0], p)[N:])
+
+
+@pytest.mark.parametrize("damping, stiff", [(0.01, False), (1000.0, True)])
+def test_a_large_chain_is_judged_stiff_by_its_damping_as_the_eigenvalues_say(damping, stiff):
+    """40 discs (80 states: the spectrum is estimated, not computed in full). Equal discs
+    J = 0.5, shafts k = 40 and dampers c between neighbours: the fastest damping rate is
+    max eig(M^-1 C) = 4 c / J cos^2(pi / 80) (c = 1000: 8000 1/s), the slowest scale of
+    the free chain (a rigid mode) is clamped to [1/T, 1] = 1 1/s, so the ratio is 8000 >
+    2000: stiff; with c = 0.01 it is 0.08: not stiff."""
+    n = 40
+    mech, angles = disc_chain(n)
+    for i in range(n - 1):
+        mech.damper(f"damper {i}", c, stretch=angles[i + 1] - angles[i])
+    mech.load("drive", 1, along=angles[0])
+    scene = md.Scene("start", initial={**{a: 0 for a in angles},
+                                       **{md.speed(a): 0 for a in angles}},
+                     t_end=1.0, rtol=1e-6, backend="scipy")
+    compiled = mech.compile(scene)
+    p = compiled.parameter_vector({"J": VALUES["J"], "k": VALUES["k"], "c": damping})
+    method, why = choose_method(compiled, p, [0.0] * (2 * n), 0.0, 1.0, 1e-6)
+    assert (method == "Radau") == stiff, why
+    if stiff:
+        assert float(why.split()[2]) == pytest.approx(
+            4 * damping / VALUES["J"] * math.cos(math.pi / (2 * n)) ** 2, rel=0.05)
