@@ -149,6 +149,7 @@ class Mechanism(Couplings):
                 self._check_dependencies(element, f"point {index} {axis}", expr)
         self._check_link_names(element)
         self.elements[element.name] = element
+        self._names_seen = (len(self.elements), known)
         self._derived.clear()
         self._memo.clear()
         self._dimensions_checked = False
@@ -247,12 +248,17 @@ class Mechanism(Couplings):
         return tuple(q for q in self.coordinates if q not in chosen)
 
     def _parameter_names(self) -> dict:
-        """name -> (parameter symbol, where it is declared) over the elements so far."""
-        known = {}
-        for element in self.elements.values():
-            for attribute, expr in element.expressions().items():
-                check_parameters(_what(element, attribute), expr, known, self.coordinates)
-        return known
+        """name -> (parameter symbol, where it is declared) over the elements so far
+        (a copy of the names seen at the last ``add``: elements are only ever added, and
+        checking them all again at every ``add`` made a 600-element chain take minutes)."""
+        seen = getattr(self, "_names_seen", None)
+        if seen is None or seen[0] != len(self.elements):
+            known = {}
+            for element in self.elements.values():
+                for attribute, expr in element.expressions().items():
+                    check_parameters(_what(element, attribute), expr, known, self.coordinates)
+            seen = self._names_seen = (len(self.elements), known)
+        return dict(seen[1])
 
     def _check_link_names(self, element):
         links = {n for n, e in self.elements.items() if isinstance(e, Link)}

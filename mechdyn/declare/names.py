@@ -12,6 +12,7 @@ mechdyn.errors.DeclarationError: spring 'k': stretch: the parameter q has the na
 """
 from __future__ import annotations
 
+import functools
 import re
 
 import sympy as sp
@@ -38,6 +39,14 @@ def generated_names(coordinates) -> dict:
     return names
 
 
+@functools.lru_cache(maxsize=64)
+def _reserved(coordinates) -> dict:
+    """:func:`generated_names` of a tuple of coordinates, remembered: every element
+    added is checked against them (a 200-disc chain: 600 elements, each re-checking all
+    the others, took minutes to declare)."""
+    return generated_names(coordinates)
+
+
 def check_coordinates(mechanism, coordinates):
     """Refuse a coordinate named ``t`` or named as another coordinate's speed or
     acceleration (``x`` and ``xdot``)."""
@@ -56,7 +65,7 @@ def check_parameters(what, expr, known: dict, coordinates):
     """Refuse a parameter symbol of ``expr`` (declared in ``what``) that has the name of
     the time, a coordinate, a speed or acceleration, a symbol of mechdyn's own, or of
     another parameter symbol in ``known`` (name -> (symbol, where), updated here)."""
-    reserved = generated_names(coordinates)
+    reserved = _reserved(tuple(coordinates))
     for symbol in sorted(sp.sympify(expr).free_symbols - {t}, key=str):
         name = symbol.name
         if name in reserved:
