@@ -56,6 +56,8 @@ def to_number(name: str, value, unit=None) -> float:
     ...
     mechdyn.errors.ParameterError: parameter I: "__import__('os')": ...
     """
+    if type(value) is float:                      # the common case, first (large models)
+        return value
     if isinstance(value, str) or hasattr(value, "dimensionality"):
         from mechdyn.units import to_si
         try:
