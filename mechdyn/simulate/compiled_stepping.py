@@ -27,7 +27,8 @@ class CompiledSegment:
 
     ``functions``: the scene's :func:`~mechdyn.compile.numba_model.numba_functions`; ``p`` the
     parameter vector; ``watched``: ``(index in events, direction, side while zero)``
-    per watched event, in the order the driver numbers them; the last ``drift`` of them
+    per watched event, in the order the driver numbers them (a side of +2/-2: that side
+    whatever the value at the start, :mod:`mechdyn.kernels.layout`); the last ``drift`` of them
     end the segment with status ``"drift"`` (the state left its constraints) when they
     fire alone; ``switch``: whether the kernel may report that the method no longer
     fits (stiff / not stiff); ``midpoint``: whether events are also sampled at each

@@ -28,7 +28,7 @@ import numpy as np
 __all__ = ["choose_method", "explicit_for", "stiff_for", "STIFF", "StiffnessMonitor",
            "fallbacks", "STABILITY_LIMIT", "STIFF_RTOL_FLOOR", "segment_tolerances",
            "motion_jacobian", "backend_plan", "BackendPlan", "BACKENDS", "KERNEL_ONLY",
-           "uses_kernels", "has_modes", "closed_loops", "compiled_functions",
+           "uses_kernels", "has_modes", "compiled_functions",
            "mode_compilable"]
 
 STIFF = "Radau"
@@ -150,21 +150,10 @@ def fallbacks(method, rtol, compiled=False) -> list:
     return [m for m in ladder if m != method]
 
 
-def closed_loops(compiled) -> bool:
-    """Whether a scene has closed loops (a lossy gear's own constraint row is none).
-    Their segments run on scipy: the compiled drift watch leaves the global error near
-    1e-9 at tight tolerances, where scipy's per-step projection keeps falling with the
-    tolerance."""
-    meshes = {gear[2] for gear in compiled.meta.get("gears", [])}
-    return any(i not in meshes for i in range(len(compiled.constraints)))
-
-
 def mode_compilable(compiled, mode) -> bool:
-    """Whether a segment with ``mode`` has a compiled form: not on closed loops
-    (:func:`closed_loops`), nor where a lossy gear is stuck together with other elements
-    (the share of their holding force is a linear programme, solved on scipy)."""
-    if closed_loops(compiled):
-        return False
+    """Whether a segment with ``mode`` has a compiled form: not where a lossy gear is
+    stuck together with other elements (the share of their holding force is a linear
+    programme, solved on scipy)."""
     kinds = compiled.meta.get("friction_kinds", [])
     return not any(len(group) > 1 and any(k < len(kinds) and kinds[k] == "gear"
                                           for k, _ in group) for group in mode.groups)
@@ -173,11 +162,9 @@ def mode_compilable(compiled, mode) -> bool:
 def has_modes(compiled) -> bool:
     """Whether a scene's segments run on its mode functions
     (:mod:`mechdyn.compile.mode_code`) rather than its plain ``rhs``: friction elements
-    (which may stick), stop limits (whose gaps are watched from an offset) or lossy
-    gears. Not a scene with closed loops: its segments run on scipy, so its mode
-    module (seconds of numba) is not compiled."""
-    return bool(compiled.frictions or compiled.meta.get("contacts")
-                or compiled.constraints) and not closed_loops(compiled)
+    (which may stick), stop limits (whose gaps are watched from an offset), lossy gears
+    or closed loops (their drift and singular positions watched)."""
+    return bool(compiled.frictions or compiled.meta.get("contacts") or compiled.constraints)
 
 
 def uses_kernels(compiled, method) -> bool:

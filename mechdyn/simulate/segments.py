@@ -114,7 +114,9 @@ def compiled_runner(context, functions, mode, method, t0, y0, t_end, h, watched,
     they end the segment with status "drift", for the rank check and a projection).
     As on scipy, a segment with loops and nothing stuck samples its events at the step
     ends only: the drift is the steps', not the interpolant's. Events of t alone are
-    ignored: the driver ends the segment at them."""
+    ignored: the driver ends the segment at them. A switching function is watched from
+    the side its flag locks whatever its value at the start (a projection onto the
+    loops may have nudged it back across zero), as on scipy."""
     from mechdyn.compile.mode_code import mode_vector
     from mechdyn.kernels.layout import IGNORED
     from mechdyn.simulate.compiled_stepping import CompiledSegment
@@ -136,7 +138,8 @@ def compiled_runner(context, functions, mode, method, t0, y0, t_end, h, watched,
     def entry(w):
         return size + w.index if w.kind == "release" else groups if w.kind == "minor" \
             else w.index
-    spec = [(entry(w), IGNORED if w.timed else w.direction, w.side) for w in watched]
+    spec = [(entry(w), IGNORED if w.timed else w.direction,
+             2 * w.side if w.kind == "switch" else w.side) for w in watched]
     return CompiledSegment(method, functions, p, t0, y0, t_end, rtol, atol, segment,
                            spec + extra, groups + (4 if minor is not None else 0),
                            first_step=h, max_step=max_step, drift=len(extra),
