@@ -171,6 +171,8 @@ def manifold_jacobian(compiled, t, y, p):
     mass, f_q, f_u = (v[i * n * n:(i + 1) * n * n].reshape(n, n) for i in range(3))
     f_q, f_u = f_q.T, f_u.T                     # generated column by column
     reduced = basis.T @ mass @ basis
-    stiffness = np.linalg.solve(reduced, basis.T @ f_q @ basis)
-    damping = np.linalg.solve(reduced, basis.T @ f_u @ basis)
-    return np.block([[np.zeros((k, k)), np.eye(k)], [stiffness, damping]])
+    out = np.zeros((2 * k, 2 * k))
+    out[:k, k:] = np.eye(k)
+    out[k:, :k] = np.linalg.solve(reduced, basis.T @ f_q @ basis)     # stiffness
+    out[k:, k:] = np.linalg.solve(reduced, basis.T @ f_u @ basis)     # damping
+    return out

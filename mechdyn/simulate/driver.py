@@ -74,6 +74,12 @@ class Driver:
         self.max_step = self._max_step()
         self.loops = LoopWatch(compiled, scene.rtol)
         self.span = scene.time_limit - scene.t_start
+        self.scratch = {}             # the compiled chunks' work arrays, for every segment
+        if self.plan.active and compiled.constraints:
+            from mechdyn.compile.numba_model import loop_projection
+            self.modes.loop_projection = loop_projection(compiled)
+        self._switches = [i for i, (kind, _) in enumerate(compiled.event_kinds)
+                          if kind == "switch"]
 
     # ------------------------------------------------------------------ the run
     def run(self, y0) -> Result:
@@ -283,7 +289,7 @@ class Driver:
         """The side of each switching function at ``(t, y)``; one that is exactly zero
         takes the side it moves to (looked up a moment later along the motion); muted
         ones are unlocked (0)."""
-        switches = [i for i, (kind, _) in enumerate(self.c.event_kinds) if kind == "switch"]
+        switches = self._switches
         if not switches:
             return ()
         p = self.modes.p(mode)

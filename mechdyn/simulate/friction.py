@@ -128,6 +128,8 @@ class FrictionModes:
         self.gears = [tuple(g) for g in meta.get("gears", [])]
         self.frozen = list(compiled.frozen) + list(meta.get("contact_frozen", []))
         self.lines = {}                   # the gear lines last used: tried first
+        self._last_view = None            # (t, y, p) and the StateView there
+        self.loop_projection = None       # a compiled assembly.project, where loaded
 
     @property
     def size(self) -> int:
@@ -141,7 +143,16 @@ class FrictionModes:
             list(mode.flags or [0.0] * self.c.flags) + self.factor
 
     def view(self, t, y, mode) -> StateView:
-        return StateView(self, self.c.terms(t, y, self.p(mode)))
+        """The :class:`StateView` at ``(t, y)`` in ``mode``; the last one is kept (an
+        event's impact, mode decision and gap offsets look at the same state)."""
+        p = self.p(mode)
+        key = (float(t), np.asarray(y, dtype=float).tobytes(), tuple(p))
+        last = self._last_view
+        if last is not None and last[0] == key:
+            return last[1]
+        view = StateView(self, self.c.terms(t, y, p))
+        self._last_view = (key, view)
+        return view
 
     def solve(self, view, mode):
         """The constrained equations of a mode (:func:`mechdyn.simulate.constrained.solve`)."""
@@ -293,7 +304,9 @@ class FrictionModes:
         changes the kinetic energy least (speeds projected with the mass matrix); with
         loops, by the least change that keeps the loops' speeds closed."""
         y = np.array(y, dtype=float)
-        if self.c.constraints:
+        if self.c.constraints and self.loop_projection is not None:
+            y = self.loop_projection(t, y, self.p(mode))
+        elif self.c.constraints:
             from mechdyn.simulate.assembly import project
             y = project(self.c, t, y, self.p(mode))
         if not mode.groups:
