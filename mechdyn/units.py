@@ -23,6 +23,7 @@ array([1500.])
 """
 from __future__ import annotations
 
+import functools
 import math
 from fractions import Fraction
 
@@ -252,6 +253,8 @@ def to_si(value, unit=None) -> float:
     if isinstance(value, bool) or value is None:
         raise UnitError(f"{value!r} is not a value")
     if isinstance(value, str):
+        if unit is None or isinstance(unit, str):
+            return _cached_text_to_si(value, unit)
         return _text_to_si(value, unit)
     if hasattr(value, "dimensionality") and hasattr(value, "to_base_units"):
         return _quantity_to_si(value, unit)
@@ -263,6 +266,13 @@ def to_si(value, unit=None) -> float:
     if not math.isfinite(number):
         raise UnitError(f"{value!r} is not finite")
     return number
+
+
+@functools.lru_cache(maxsize=4096)
+def _cached_text_to_si(text, unit):
+    """:func:`_text_to_si` of a text and a unit text, kept: every run of a scene
+    converts the same parameter texts."""
+    return _text_to_si(text, unit)
 
 
 def _text_to_si(text, unit):

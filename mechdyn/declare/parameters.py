@@ -30,6 +30,7 @@ mechdyn.errors.ParameterError: parameter P = -20 is negative, but P is declared 
 from __future__ import annotations
 
 import difflib
+import functools
 import math
 import numbers
 from collections.abc import Mapping
@@ -42,6 +43,12 @@ from mechdyn.declare.parameter_rules import MechanismFacts, check_values, facts_
 from mechdyn.symbols import t
 
 __all__ = ["ParameterSet", "to_number"]
+
+@functools.lru_cache(maxsize=4096)
+def _sympy_complex(value) -> complex:
+    """``complex(value)`` of a sympy number (an evalf: about 0.1 ms), kept."""
+    return complex(value)
+
 
 def to_number(name: str, value, unit=None) -> float:
     """The float value (SI) of parameter ``name``: the one place where a given value
@@ -69,7 +76,7 @@ def to_number(name: str, value, unit=None) -> float:
             raise ParameterError(f"parameter {name} = {_shown(value)} is not a number")
         if value.has(sp.nan, sp.zoo):
             raise ParameterError(f"parameter values must be finite: {name} = {value}")
-        value = complex(value)
+        value = _sympy_complex(value)
     elif not isinstance(value, numbers.Number) and getattr(value, "shape", None) == ():
         value = value.item()                      # a 0-d numpy array
     if isinstance(value, numbers.Complex) and not isinstance(value, numbers.Real):

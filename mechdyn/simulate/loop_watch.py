@@ -101,15 +101,17 @@ class LoopWatch:
         k = int(np.argmax(np.abs(minors)))
         if self.scale is None:
             self.scale = abs(minors[k])
-        self.check_singular(t, y, p)
+        self.check_singular(t, y, p, minors)
         return k, -float(np.sign(minors[k]) or 1.0)
 
-    def check_singular(self, t, y, p):
-        """Raise :class:`LoopSingularError` where every minor of ``G`` is below
-        ``LOOP_MARGIN`` times its size at the start."""
+    def check_singular(self, t, y, p, minors=None):
+        """Raise :class:`LoopSingularError` where every minor of ``G`` (``minors``,
+        where already evaluated at ``(t, y)``) is below ``LOOP_MARGIN`` times its size at
+        the start."""
         if not self.c.constraints or self.scale is None:
             return
-        minors = np.abs(np.asarray(self.c.loop_minors(t, y, p)))
+        minors = np.abs(np.asarray(self.c.loop_minors(t, y, p) if minors is None
+                                   else minors))
         if not np.all(np.isfinite(minors)) or minors.max() < LOOP_MARGIN * self.scale:
             from mechdyn.simulate.assembly import _independent_text
             raise LoopSingularError(self._weakest(t, y, p), t, y,
