@@ -28,12 +28,11 @@ from __future__ import annotations
 
 __all__ = ["mode_source", "mode_vector", "KIND_CODES"]
 
-_EPS = 2.0 ** -52        # numpy's lstsq cut-off is eps * max(rows, columns)
 KIND_CODES = {"friction": 0.0, "one_way": 1.0, "contact": 2.0, "gear": 3.0}
 
 _TEMPLATE = '''
 from mechdyn.compile.mode_numerics import (constrained, frozen_speeds, group_margins,
-                                           rank_margin)
+                                           least_change, rank_margin)
 import numpy as _np
 
 _LAY = _np.array({layout}, dtype=_np.int64)
@@ -77,14 +76,14 @@ def loop_project(t, y, p, out):
         out[i] = y[i]
     for _ in range(3):
         closure(t, out, p, parts)
-        step = _np.linalg.lstsq(parts[{m}:{mn}].copy().reshape(({m}, {n})),
-                                parts[:{m}].copy(), {rcond!r})[0]
+        step = least_change(parts[{m}:{mn}].copy().reshape(({m}, {n})),
+                            parts[:{m}].copy())
         for i in range({n}):
             out[i] -= step[i]
     closure(t, out, p, parts)
     grads = parts[{m}:{mn}].copy().reshape(({m}, {n}))
     rate = grads @ out[{n}:].copy() + parts[{mn}:{mn} + {m}]
-    step = _np.linalg.lstsq(grads, rate, {rcond!r})[0]
+    step = least_change(grads, rate)
     for i in range({n}):
         out[{n} + i] -= step[i]
 '''
@@ -137,8 +136,7 @@ def mode_source(meta, n_params, plain=False, minors=0) -> str:
         n_terms=values["terms"], size=n + loops + len(gears),
         plain_call=_PLAIN_CALL if plain and not gears else "",
         loop_events=_LOOP_EVENTS.format(minors=minors) if loops else "") + (
-        _LOOP_PROJECT.format(m=loops, n=n, n2=2 * n, mn=loops + loops * n,
-                             rcond=_EPS * max(loops, n)) if loops else "")
+        _LOOP_PROJECT.format(m=loops, n=n, n2=2 * n, mn=loops + loops * n) if loops else "")
 
 
 def mode_vector(mode, kinds, frozen, contacts, gap_offsets=None, loops=()) -> list:
