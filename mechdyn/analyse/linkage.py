@@ -105,7 +105,9 @@ class Linkage:
     """
 
     def __init__(self, mechanism, params=None, guess=None, scene=None, guess_at=None):
+        from mechdyn.declare.parameters import ParameterSet
         self.mechanism = mechanism
+        values = ParameterSet(params, mechanism=mechanism, scene=scene)  # before deriving
         self.eqs = eqs = mechanism.equations(scene)
         if not eqs.constraints:
             raise LinkageError(f"{mechanism.name!r} has no loops; declare them with "
@@ -118,8 +120,8 @@ class Linkage:
         self.independent = [eqs.q.index(q) for q in eqs.independent]
         self.dependent = [i for i in range(self.n) if i not in self.independent]
         self.functions = LinkageFunctions(eqs)
-        self.p = self.functions.parameter_vector(params or {})
-        self.params = dict(params or {})
+        self.p = self.functions.parameter_vector(values)
+        self.params = dict(values)
         self._last = self._start(guess, scene, guess_at)
 
     # ------------------------------------------------------------- positions

@@ -233,11 +233,12 @@ def work_precision(mech, scene, params, methods=DEFAULT_METHODS, rtols=DEFAULT_R
     'DOP853'
     """
     from mechdyn.simulate.methods import uses_kernels
+    params = ParameterSet(params, mechanism=mech, scene=scene)     # before any compiling
     compiled = mech.compile(scene)     # compile (or load) once, outside the timing
+    params.vector(compiled.param_names)                            # none missing
     if uses_kernels(compiled, "auto"):
         from mechdyn.compile.numba_model import numba_functions
         numba_functions(compiled, jac=True)          # Rodas5P's, too
-    params = ParameterSet(params, mechanism=mech, scene=scene)     # bad values: refused here
     reference = _reference(mech, scene, params, points, reference_rtol, check_rtol)
     rows = [_row(mech, scene, params, method, rtol, repeats, reference, points)
             for method in methods for rtol in rtols]

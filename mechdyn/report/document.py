@@ -89,6 +89,8 @@ def report(mechanism, scene, params, precision=False) -> Report:
     >>> page.html.count("data:image/png;base64,")       # the default figure
     1
     """
+    from mechdyn.declare.parameters import ParameterSet
+    params = ParameterSet(params, mechanism=mechanism, scene=scene)   # before deriving
     eqs = mechanism.equations(scene)
     failure = ""
     try:
@@ -161,6 +163,7 @@ def _elements(mechanism, eqs) -> str:
 
 
 def _parameters(params, eqs, units) -> str:
+    """The table of the values (SI) of the parameters the equations use."""
     needed = {str(s) for s in eqs.parameters}
     rows = [f"<tr><td>{_math(sp.latex(sp.Symbol(str(k))))}</td>"
             f"<td class='num'>{_e(_number(v))}</td><td>{_e(units.get(str(k), ''))}</td></tr>"

@@ -56,8 +56,8 @@ def simulate(mechanism, scene: Scene, params: dict, *, progress=None, max_steps=
     """
     if not isinstance(scene, Scene):
         raise SceneError(f"simulate() needs a md.Scene, got {scene!r}")
+    values = ParameterSet(params, mechanism=mechanism, scene=scene)   # before any compiling
     compiled = compile_scene(mechanism, scene)
-    values = ParameterSet(params, mechanism=mechanism, scene=scene)
     base = values.vector(compiled.param_names)
     if start is None:
         y0 = initial_state(compiled, mechanism, scene, values.numbers)

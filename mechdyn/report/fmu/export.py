@@ -42,6 +42,7 @@ def export_fmu(mechanism, scene, params, path, inputs=(), start=None) -> Path:
     path = _checked_path(path)
     if not isinstance(scene, Scene):
         raise FmuError(f"export_fmu() needs a md.Scene, got {scene!r}")
+    values = ParameterSet(params, mechanism=mechanism, scene=scene)   # before any work
     find_compiler()                                  # say so before deriving anything
     eqs = mechanism.equations(scene)
     _refuse_switching_elements(eqs, scene, mechanism.elements)
@@ -50,7 +51,6 @@ def export_fmu(mechanism, scene, params, path, inputs=(), start=None) -> Path:
     except FmuExpressionError as error:
         raise FmuError(f"scene {scene.name!r}: {error}") from None
     names = [s.name for s in code.parameters]
-    values = ParameterSet(params, mechanism=mechanism, scene=scene)
     p = values.vector(names)
     marked = _inputs(inputs, names, mechanism, scene)
     y0 = _initial_state(mechanism, scene, values, start)
