@@ -14,7 +14,7 @@ from scipy.integrate import solve_ivp
 
 from mechdyn.compile.compiler import compile_scene
 from mechdyn.errors import MechdynError, SceneError
-from mechdyn.declare.parameters import ParameterSet
+from mechdyn.declare.parameters import ParameterSet, missing_values
 from mechdyn.symbols import t
 
 __all__ = ["Floquet", "PeriodicError", "NoPeriodicSolutionError", "forcing_period"]
@@ -154,10 +154,12 @@ def forcing_period(mechanism, scene, params) -> float:
     for f in trig:
         rate = sp.diff(f.args[0], t)
         number = values.substitute(rate)
-        if t in rate.free_symbols or not number.is_number:
+        if t in rate.free_symbols:
             raise PeriodicError(f"{eqs.name!r}: cannot infer the period from {f} (its "
-                                "argument is not omega*t plus terms free of t, or a parameter "
-                                "has no value); give period=T")
+                                "argument is not omega*t plus terms free of t); give period=T")
+        if not number.is_number:
+            raise missing_values(sorted(s.name for s in number.free_symbols),
+                                 f"the period of {f}", eqs.name)
         if number != 0:
             rates.append(abs(float(number)))
     base = min(rates)
