@@ -170,6 +170,18 @@ def test_closed_forms_keep_a_missing_value_as_a_symbol():
     assert md.same(solution["omega(t)"], sp.exp(-c * sp.Symbol("t") / 2))
 
 
+def test_sweep_grid_values_take_the_declared_unit():
+    """A grid value with a unit is converted as a parameter value is, and as --grid
+    converts it ("100 N*mm*s" is 0.1 N m s); "2 kg" is refused (it was read as 2)."""
+    on_scipy = md.Scene("free", effects=["damper"], initial={phi: 0, md.speed(phi): 1},
+                        t_end=1, backend="scipy")
+    table = md.sweep(disc, on_scipy, DISC, {"c": ["100 N*mm*s", "0.2 N*m*s"]},
+                     progress=False)
+    assert list(table["c"]) == [0.1, 0.2]
+    with pytest.raises(md.ParameterError, match="parameter c: '2 kg': kg is a mass but "):
+        md.sweep(disc, on_scipy, DISC, {"c": ["2 kg"]}, progress=False)
+
+
 # ----------------------------------------------------------------------- command line
 MODEL = textwrap.dedent('''
     """A disc on a spring and damper, driven by M cos(w t)."""
