@@ -17,7 +17,6 @@ from sympy.core.function import AppliedUndef
 
 from mechdyn.derive.coupling_steps import coupling_steps
 from mechdyn.derive.textbook import Budget, applies, textbook, to_latex
-from mechdyn.symbols import dotted_symbol
 
 __all__ = ["derivation_latex", "derivation_text", "equations_latex", "derivation_steps",
            "coupling_steps", "presentable", "readable", "rhs_latex", "tidy"]
