@@ -16,13 +16,9 @@ scene's own: the compiled kernels for DOP853 and ``"auto"`` where numba is insta
 scipy's solvers for the others); the scene's compilation, for scipy and for the kernels,
 happens once before any timing. Each row names the backend its steps took.
 
->>> import sympy as sp, mechdyn as md
->>> phi = md.coordinate("phi")
->>> brake = md.Mechanism("brake", [phi])
->>> _ = brake.link("disc", J=sp.Symbol("I"), angle=phi)
->>> _ = brake.friction("shoe", 0.8, along=phi)
->>> braking = md.Scene("braking", initial={phi: 0, md.speed(phi): 100}, until=md.stopped(phi))
->>> table = md.work_precision(brake, braking, {sp.Symbol("I"): 0.4},
+>>> import mechdyn as md
+>>> model = md.load_model("models/shoe_brake.py")    # stops after 50 s: closed form
+>>> table = md.work_precision(model.mechanism, model.scenes["braking"], model.params,
 ...                           methods=["RK45", "Radau"], rtols=[1e-6], repeats=1)
 >>> table.reference.kind, [row.method for row in table.rows]
 ('closed form', ['RK45', 'Radau'])

@@ -24,7 +24,6 @@ its multipliers (:meth:`_Run.loop_multipliers`).
 """
 from __future__ import annotations
 
-
 import numpy as np
 import sympy as sp
 
