@@ -26,12 +26,19 @@ swing of the excess work ``W(phi) = integral (M(phi, omega_mean) - mean M) dphi`
 >>> _ = machine.link("crank and flywheel", J=J, angle=phi)
 >>> _ = machine.load("motor", md.motors.dc_shunt(400, 110)(md.speed(phi)), along=phi)
 >>> _ = machine.load("process", 20 * sp.cos(phi), along=phi)
->>> running = md.steady_running(machine, md.Scene("run", initial={phi: 0,
-...                             md.speed(phi): 100}, t_end=1), {J: 2})
+>>> scene = md.Scene("run", initial={phi: 0, md.speed(phi): 100}, t_end=1)
+>>> running = md.steady_running(machine, scene, {J: 2})
 >>> round(running.omega_mean, 3)       # the motor balances at 110 (1 - 0) = 110 rad/s
 110.0
 >>> round(running.delta, 4)            # 2 A / (omega sqrt((J omega)^2 + b^2)), b = 400/110
 0.0017
+
+The flywheel for ``delta = 0.01``: ``J = 0.3289`` (from the linearised ``delta`` above);
+the textbook ``Delta E_max = 2 A = 40 J`` gives ``40 / (0.01 * 110^2) = 0.3306``:
+
+>>> sized = md.flywheel(machine, scene, {J: 2}, delta=0.01, inertia=J)
+>>> round(sized.inertia, 4), round(sized.textbook, 4)
+(0.3289, 0.3306)
 """
 from __future__ import annotations
 
@@ -298,21 +305,8 @@ def flywheel(mechanism, scene, params, delta, inertia, cycle=2 * math.pi) -> Fly
 
     Examples
     --------
-    The machine of the module's example, ``J w w' = 400 (1 - w/110) + 20 cos(phi)``:
-    ``delta = 2 A / (w sqrt((J w)^2 + b^2)) = 0.01`` gives ``J = 0.3289`` (linearised);
-    the textbook ``Delta E_max = 2 A = 40 J`` gives ``40 / (0.01 * 110^2) = 0.3306``.
-
-    >>> import sympy as sp, mechdyn as md
-    >>> phi = md.coordinate("phi")
-    >>> J = sp.Symbol("J", positive=True)
-    >>> machine = md.Mechanism("machine", [phi])
-    >>> _ = machine.link("crank and flywheel", J=J, angle=phi)
-    >>> _ = machine.load("motor", md.motors.dc_shunt(400, 110)(md.speed(phi)), along=phi)
-    >>> _ = machine.load("process", 20 * sp.cos(phi), along=phi)
-    >>> scene = md.Scene("run", initial={phi: 0, md.speed(phi): 100}, t_end=1)
-    >>> sized = md.flywheel(machine, scene, {J: 2}, delta=0.01, inertia=J)
-    >>> round(sized.inertia, 4), round(sized.textbook, 4)
-    (0.3289, 0.3306)
+    The module's example: its machine, ``J w w' = 400 (1 - w/110) + 20 cos(phi)``, needs
+    ``J = 0.3289`` for ``delta = 2 A / (w sqrt((J w)^2 + b^2)) = 0.01`` (linearised).
     """
     eqs, values = _check(mechanism, scene, params)
     if not 0 < float(delta) < 1:
