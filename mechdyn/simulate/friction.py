@@ -226,16 +226,19 @@ class FrictionModes:
 
     def _reduced(self, view):
         """The gradients on the motions the closed loops allow."""
+        if not len(view.terms["constraint_gradient"]):
+            return view.gradients                     # no loops: every motion
         return view.gradients @ allowed_motions(view.terms["constraint_gradient"], self.n)
 
     def _holdable(self, view, candidates) -> list:
         """The candidates whose constraint can act: ``G M^-1 G'`` not negligible, on the
         motions the closed loops allow (mass and gradient reduced to them)."""
-        basis = allowed_motions(view.terms["constraint_gradient"], self.n)
-        mass = basis.T @ view.mass @ basis
+        loops = len(view.terms["constraint_gradient"])
+        basis = allowed_motions(view.terms["constraint_gradient"], self.n) if loops else None
+        mass = basis.T @ view.mass @ basis if loops else view.mass
         held = []
         for k in candidates:
-            g = view.gradients[k] @ basis
+            g = view.gradients[k] @ basis if loops else view.gradients[k]
             weight = float(g @ np.linalg.solve(mass, g))
             scale = float(g @ g) / max(float(np.max(np.abs(np.diag(mass)))), 1e-300)
             if weight > _CANNOT_HOLD * scale and weight > 0:
