@@ -34,6 +34,8 @@ class LinkMotion:
     the kinematic states of a one-DOF mechanism (open or with loops)."""
 
     def __init__(self, mech, params, scene=None, guess=None):
+        from mechdyn.declare.parameters import ParameterSet
+        values = ParameterSet(params, mechanism=mech, scene=scene)    # before deriving
         self.mech, self.params = mech, dict(params or {})
         self.eqs = eqs = mech.equations(scene)
         if eqs.rheonomic:
@@ -45,11 +47,9 @@ class LinkMotion:
         self.linkage = None
         if eqs.constraints:
             from mechdyn.analyse.linkage import Linkage
-            self.linkage = Linkage(mech, params, guess, scene)
+            self.linkage = Linkage(mech, values, guess, scene)
         self.links = {n: e for n, e in mech.elements.items() if isinstance(e, Link)}
-        from mechdyn.declare.parameters import ParameterSet
-        self.values = {s: sp.Float(v) for s, v in
-                       ParameterSet(params, mechanism=mech, scene=scene).by_symbol().items()}
+        self.values = {s: sp.Float(v) for s, v in values.by_symbol().items()}
         self.names = tuple(str(q) for q in eqs.q)
         self._compile()
 

@@ -47,7 +47,7 @@ from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 import numpy as np
 
 from mechdyn.version import __version__
-from mechdyn.errors import ParameterError
+from mechdyn.errors import ParameterError, did_you_mean
 from mechdyn.declare.parameters import ParameterSet, to_number
 from mechdyn.analyse.sweep_file import MAX_POINTS, TEXT_COLUMNS, SweepError, SweepFile, SweepFileError
 from mechdyn.analyse.sweep_points import (_Job, _load_kernels, _row, _run_points,
@@ -114,9 +114,9 @@ def sweep(mechanism, scene, params, grid, executor=None, out=None, progress=True
                                 or workers < 1):
         raise SweepError(f"sweep: workers = {workers!r} must be a whole number >= 1")
     from mechdyn.compile.compiler import compile_scene
+    values = ParameterSet(params, mechanism=mechanism, scene=scene)   # before any compiling
     compiled = compile_scene(mechanism, scene)
-    names, points = _grid_points(grid, compiled, max_points)
-    values = ParameterSet(params, mechanism=mechanism, scene=scene)
+    names, points = _grid_points(grid, compiled, max_points, mechanism.parameter_units)
     fixed_names = [n for n in compiled.param_names if n not in names]
     fixed = dict(zip(fixed_names, values.vector(fixed_names)))
     columns = _columns(names, compiled)
@@ -183,22 +183,24 @@ class Sweep:
 
 
 # ---------------------------------------------------------------------- the grid
-def _grid_points(grid, compiled, max_points):
-    """Swept names (checked against the scene's parameters) and the grid's points,
-    refused before they are built when there are more than ``max_points``."""
+def _grid_points(grid, compiled, max_points, units):
+    """Swept names (checked against the scene's parameters) and the grid's points (values
+    with a unit checked against the parameter's declared one in ``units``), refused
+    before they are built when there are more than ``max_points``."""
     if not grid:
         raise ParameterError("sweep: the grid is empty; give {parameter: [values]}")
     names, axes = [], []
     for key, values in grid.items():
         name = str(key)
         if name not in compiled.param_names:
-            raise ParameterError(f"sweep: {name!r} is not a parameter of this scene "
+            raise ParameterError(f"sweep: {name!r} is not a parameter of this scene"
+                                 f"{did_you_mean(name, compiled.param_names)} "
                                  f"(parameters: {', '.join(compiled.param_names)})")
         if name in names:
             raise ParameterError(f"sweep: {name} is swept twice")
         if isinstance(values, (str, bytes)) or not hasattr(values, "__iter__"):
             raise ParameterError(f"sweep: the values of {name} must be a list of numbers")
-        values = list(dict.fromkeys(to_number(name, v) for v in values))
+        values = list(dict.fromkeys(to_number(name, v, units.get(name)) for v in values))
         if not values or not all(math.isfinite(v) for v in values):
             raise ParameterError(f"sweep: give {name} at least one value, all finite")
         names.append(name)

@@ -36,7 +36,8 @@ from mechdyn.version import __version__
 from mechdyn import cache
 from mechdyn.compile.generate import generate
 from mechdyn.compile.generated import CompiledScene, SingularMassError
-from mechdyn.declare.scene import selection
+from mechdyn.derive.equations import equations
+from mechdyn.derive.selection import select
 
 __all__ = ["CompiledScene", "compile_scene", "SingularMassError"]
 
@@ -53,7 +54,7 @@ def _generator_hash() -> str:
                    "compile/reroll.py", "compile/numba_model.py",
                    "compile/generated.py", "compile/compiler.py", "declare/elements.py",
                    "symbols.py", "compile/loop_code.py", "compile/output_code.py",
-                   "declare/unilateral.py"):
+                   "declare/unilateral.py", "derive/selection.py"):
         digest.update((package / module).read_bytes())
     return digest.hexdigest()[:16]
 
@@ -74,7 +75,7 @@ def declaration_key(mechanism, scene) -> str:
 
 
 def _declaration_key(mechanism, scene) -> str:
-    names, rigid = selection(mechanism, scene)
+    names, rigid = select(mechanism, scene).key
     parts = [__version__, _GENERATOR, [q.func.__name__ for q in mechanism.coordinates],
              sorted(mechanism.parameter_units.items())]   # units: checked when derived
     for element in mechanism.elements.values():
@@ -104,7 +105,7 @@ def compile_scene(mechanism, scene) -> CompiledScene:
         except Exception:            # authentic but malformed: rebuilt and overwritten
             compiled = None
     if compiled is None:
-        meta, source = generate(mechanism.equations(scene), scene, mechanism.elements)
+        meta, source = generate(equations(mechanism, scene), select(mechanism, scene))
         compiled = CompiledScene(meta, source, key)
         cache.store(f"scene-{key}.json", {"meta": meta, "source": source})
     _memory_cache[key] = compiled

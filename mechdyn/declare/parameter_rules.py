@@ -1,4 +1,5 @@
-"""What a mechanism requires of its parameter values: the symbols' declared assumptions
+"""What a mechanism requires of its parameter values (the parameters: the symbols of its
+elements' expressions and of its links' drawn points): the symbols' declared assumptions
 (``positive=True``, ``integer=True``, ...) and the rules of the elements that use them
 (link masses and inertias, stiffnesses, damping and friction magnitudes not negative;
 efficiencies in (0, 1]). :class:`~mechdyn.declare.parameters.ParameterSet` applies them.
@@ -116,7 +117,9 @@ class MechanismFacts:
             return
         for element in mechanism.elements.values():
             label = f"{type(element).__name__.lower()} {element.name!r}"
-            for attribute, expr in element.expressions().items():
+            drawn = {f"points[{k}]": sp.Tuple(*point)               # a link's outline
+                     for k, point in enumerate(getattr(element, "points", ()))}
+            for attribute, expr in {**element.expressions(), **drawn}.items():
                 free = expr.free_symbols - {t}
                 for symbol in free:
                     other = self.symbols.setdefault(symbol.name, symbol)

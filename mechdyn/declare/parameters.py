@@ -1,8 +1,8 @@
 """Parameter values: given by symbol or by name, checked once, ordered for compiled code.
 
-Every entry point that takes ``params`` (``simulate``, ``closed_form``,
-``natural_frequencies``, periodic analysis, ``work_precision``, ``sweep``, the command
-line's ``--param``) reads them through one :class:`ParameterSet`, which
+Every entry point that takes ``params`` reads them through one :class:`ParameterSet`
+before it derives or compiles anything (the list: ``tests/test_parameter_entry_points.py``),
+which
 
 - resolves keys given as symbols or as names (``{P: 20}`` and ``{"P": 20}`` are the same)
   to the mechanism's own symbols, with a model's ``params`` as defaults;
@@ -15,7 +15,8 @@ line's ``--param``) reads them through one :class:`ParameterSet`, which
   friction magnitude; an efficiency outside (0, 1]), naming the parameter and the
   elements that use it;
 - gives the ordered vector of floats the compiled code takes, or exact values for the
-  closed forms.
+  closed forms; a value still missing where one is needed is named by
+  :func:`missing_values`, the one wording of that error.
 
 >>> import mechdyn as md
 >>> brake = md.load_model("models/shoe_brake.py")
@@ -41,7 +42,7 @@ from mechdyn.errors import MechdynError, ParameterError
 from mechdyn.declare.parameter_rules import MechanismFacts, check_values, facts_of, scene_symbols
 from mechdyn.symbols import t
 
-__all__ = ["ParameterSet", "to_number"]
+__all__ = ["ParameterSet", "to_number", "missing_values"]
 
 def to_number(name: str, value, unit=None) -> float:
     """The float value (SI) of parameter ``name``: the one place where a given value
@@ -83,6 +84,18 @@ def to_number(name: str, value, unit=None) -> float:
     except (OverflowError, TypeError, ValueError):
         raise ParameterError(f"parameter {name} = {_shown(value)} is not a finite "
                              "number") from None
+
+
+def missing_values(names, needed_by, owner=None) -> ParameterError:
+    """The error for parameters that have no value where one is needed (every entry
+    point words it so): ``owner`` names the mechanism, ``needed_by`` what needs them.
+
+    >>> print(missing_values(["P", "R"], "the scene 'braking'", "Shoe brake"))
+    'Shoe brake': give values for P, R (needed by the scene 'braking')
+    """
+    names = ", ".join(dict.fromkeys(str(n) for n in names))
+    return ParameterError(f"{'' if owner is None else repr(owner) + ': '}give values for "
+                          f"{names} (needed by {needed_by})")
 
 
 class ParameterSet(Mapping):
@@ -138,10 +151,11 @@ class ParameterSet(Mapping):
         return f"ParameterSet({shown})"
 
     # ------------------------------------------------------------------ outputs
-    def vector(self, names) -> list:
+    def vector(self, names, needed_by=None) -> list:
         """The float values of ``names``, in that order (the ``p`` of compiled code).
 
-        All missing values are named in one error."""
+        All missing values are named in one error (:func:`missing_values`; ``needed_by``
+        says what needs them, by default the scene)."""
         missing = [n for n in names if n not in self.numbers]
         if missing:
             unresolved = [f"{n} = {self.symbolic[n]}" for n in missing if n in self.symbolic]
@@ -149,8 +163,9 @@ class ParameterSet(Mapping):
                 raise ParameterError(f"parameter values are not numbers: "
                                      f"{', '.join(unresolved)} (give values for "
                                      f"{', '.join(self._unresolved(missing))})")
-            raise ParameterError(f"missing parameter values: {', '.join(missing)} "
-                                 f"(the scene needs {', '.join(names)})")
+            scene = "the scene" if self.scene is None else f"the scene {self.scene.name!r}"
+            raise missing_values(missing, needed_by or f"{scene}: {', '.join(names)}",
+                                 getattr(self.mechanism, "name", None))
         return [self.numbers[n] for n in names]
 
     def by_symbol(self) -> dict:

@@ -24,17 +24,17 @@ J_1 + l**2*m_3*sin(phi)**2
 """
 from __future__ import annotations
 
-import time
 from dataclasses import dataclass, field
 
 import sympy as sp
 from sympy.printing.latex import LatexPrinter
 
+from mechdyn.derive.budget import Budget, cheap_tidy
+from mechdyn.derive.coupling_steps import coupling_steps
 from mechdyn.symbols import t
 
 __all__ = ["Named", "Budget", "Derivation", "textbook", "applies", "to_latex", "cheap_tidy"]
 
-_TIDY_LIMIT = 400        # operations; larger expressions are printed as derived
 _ANGLES = ("rad", "deg", "degree", "rev", "revolution", "1")
 
 
@@ -108,41 +108,6 @@ class _Printer(LatexPrinter):
 def to_latex(expr) -> str:
     """LaTeX of a derivation's expression (named quantities as textbooks write them)."""
     return _Printer().doprint(expr)
-
-
-def cheap_tidy(expr):
-    """The shortest of ``expr``, ``factor_terms(expr)`` and ``factor_terms(together)``
-    (by operations, then text): fast and the same whatever the hash order.
-
-    >>> x, y = sp.symbols("x y")
-    >>> cheap_tidy(2*x*y + 2*x)
-    2*x*(y + 1)
-    """
-    if not isinstance(expr, sp.Expr) or sp.count_ops(expr) > _TIDY_LIMIT \
-            or expr.has(sp.Piecewise):
-        return expr
-    candidates = [expr, sp.factor_terms(expr)]
-    candidates.append(sp.factor_terms(sp.together(candidates[1])))
-    return min(candidates, key=lambda e: (sp.count_ops(e), len(sp.sstr(e)), sp.sstr(e)))
-
-
-class Budget:
-    """Time for simplification: ``seconds`` in all from when it is made; then
-    expressions are left as derived and ``spent`` is set."""
-
-    def __init__(self, seconds=10.0):
-        self.seconds = seconds
-        self.start = time.perf_counter()
-        self.spent = False
-
-    def tidy(self, expr):
-        """``expr`` tidied (:func:`cheap_tidy`) while time is left, else as it is."""
-        if isinstance(expr, sp.MatrixBase):
-            return expr.applyfunc(self.tidy)
-        if self.spent or time.perf_counter() - self.start > self.seconds:
-            self.spent = True
-            return expr
-        return cheap_tidy(expr)
 
 
 @dataclass
@@ -325,7 +290,6 @@ def _velocity_terms(book, mass):
 
 
 def _steps(eqs, book, result, kinetic, potential, dissipation) -> list:
-    from mechdyn.derive.latex import coupling_steps
     steps = []
     for c, expr in eqs.eliminated.items():
         steps.append(("rigid", sp.latex(sp.Symbol(c.func.__name__)), c.func.__name__,

@@ -24,8 +24,6 @@ its multipliers (:meth:`_Run.loop_multipliers`).
 """
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import sympy as sp
 
@@ -38,6 +36,7 @@ from mechdyn.declare.parameters import ParameterSet
 from mechdyn.simulate.result import Result
 from mechdyn.declare.scene import DEFAULT_ATOL, Scene
 from mechdyn.simulate.stepping import METHODS
+from mechdyn.units import finite
 
 __all__ = ["simulate", "initial_state", "given_initial", "atol_vector", "choose_method",
            "METHODS"]
@@ -56,8 +55,8 @@ def simulate(mechanism, scene: Scene, params: dict, *, progress=None, max_steps=
     """
     if not isinstance(scene, Scene):
         raise SceneError(f"simulate() needs a md.Scene, got {scene!r}")
+    values = ParameterSet(params, mechanism=mechanism, scene=scene)   # before any compiling
     compiled = compile_scene(mechanism, scene)
-    values = ParameterSet(params, mechanism=mechanism, scene=scene)
     base = values.vector(compiled.param_names)
     if start is None:
         y0 = initial_state(compiled, mechanism, scene, values.numbers)
@@ -122,14 +121,9 @@ def given_initial(compiled, mechanism, scene, params) -> dict:
                 raise SceneError(f"scene {scene.name!r}: initial value of {key} = {value} has "
                                  f"no number (unknown: {sorted(map(str, expr.free_symbols))})")
             value = expr
-        try:
-            number = float(value)
-        except (TypeError, ValueError):
-            raise SceneError(f"scene {scene.name!r}: initial value of {key} = {value!r} is "
-                             "not a number") from None
-        if not math.isfinite(number):
-            raise SceneError(f"scene {scene.name!r}: initial value of {key} is not finite")
-        given[slots[slot]] = number
+        what = f"scene {scene.name!r}: initial value of {key}"
+        given[slots[slot]] = finite(value, SceneError, f"{what} = {value!r} is not a number",
+                                    f"{what} is not finite")
     return given
 
 
