@@ -113,3 +113,20 @@ def test_the_printed_derivation_writes_its_energy_and_moment():
     moment = next(line for line in latex.splitlines()
                   if line.startswith("M_{\\mathrm{red}} &="))
     assert moment.endswith("- M_{0} - k \\left(\\phi - q_{0}\\right) \\\\")
+
+
+def test_kinetostatics_balances_its_moment_and_the_weight_of_the_disc():
+    """A disc of 3 kg turning about its centre O, driven through phi at omega = 3,
+    eps = 4: the drive balances I eps and the spring, M = I eps + k (phi - q0) + M0;
+    the frame holds the weight, m g upward, and no moment of the spring."""
+    disc = md.Mechanism("heavy disc", [phi])
+    disc.link("disc", m=3, J=I, angle=phi)
+    disc.joint("O", ("frame", "disc"), at=(0, 0))
+    disc.add(PreloadedSpring("torsion", k=k, q0=q0, M0=M0, along=phi))
+    disc.gravity(9.81)
+    angles = np.array([0.0, 1.0, 2.0])
+    statics = md.kinetostatics(disc, VALUES, angles, omega=3.0, eps=4.0)
+    assert np.allclose(statics.driving, 2.0 * 4.0 + 8.0 * (angles - 0.5) + 2.0,
+                       rtol=0, atol=1e-12)
+    assert np.allclose(statics.reactions["O"].y, 3 * 9.81, rtol=0, atol=1e-12)
+    assert np.allclose(statics.reactions["O"].x, 0.0, rtol=0, atol=1e-12)
