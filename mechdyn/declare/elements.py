@@ -2,7 +2,9 @@
 
 Every element has a unique ``name`` and optional ``tags``; scenes select loads by either.
 Values are sympy expressions (or numbers) of the coordinates, their speeds, the time
-``md.t`` and parameters (any other symbols).
+``md.t`` and parameters (any other symbols). Each element carries its own behaviour —
+its work (energy, dissipation, forces), units check and output — as the methods of
+:class:`~mechdyn.declare.element_base.Element` that every stage asks.
 
 >>> import sympy as sp, mechdyn as md
 >>> phi = md.coordinate("phi")
