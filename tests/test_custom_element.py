@@ -129,3 +129,28 @@ def test_kinetostatics_balances_its_moment_and_the_weight_of_the_disc():
                        rtol=0, atol=1e-12)
     assert np.allclose(statics.reactions["O"].y, 3 * 9.81, rtol=0, atol=1e-12)
     assert np.allclose(statics.reactions["O"].x, 0.0, rtol=0, atol=1e-12)
+
+
+def test_an_edited_element_never_runs_the_code_compiled_from_the_old_one():
+    """The same class name, the same attributes, a stiffer law (as after editing the
+    class in a notebook): the compiled scene is keyed by the class's code, so the run
+    follows the new law, omega = sqrt(2 k / I) = 2 sqrt(2)."""
+    scene = md.Scene("swing", initial={phi: 1, md.speed(phi): 0}, t_end=1.0,
+                     backend="scipy")
+    first = _disc().simulate(scene, params=VALUES).final(phi)
+    assert first == pytest.approx(0.25 + 0.75 * np.cos(2.0), abs=1e-7)
+
+    @dataclass(frozen=True)
+    class PreloadedSpring(globals()["PreloadedSpring"]):
+        def work(self, motion):
+            angle = motion.position(self.along, self.name)
+            k, q0, M0 = (2 * motion.plain(self.k), motion.plain(self.q0),
+                         motion.plain(self.M0))
+            return md.Work(forces=((-(k * (angle - q0) + M0), angle),))
+
+    stiffer = md.Mechanism("preloaded disc", [phi])
+    stiffer.link("disc", J=I, angle=phi)
+    stiffer.add(PreloadedSpring("torsion", k=k, q0=q0, M0=M0, along=phi))
+    rest = 0.5 - 2.0 / 16.0
+    assert stiffer.simulate(scene, params=VALUES).final(phi) == pytest.approx(
+        rest + (1 - rest) * np.cos(np.sqrt(8.0)), abs=1e-7)
