@@ -21,6 +21,7 @@ class PreloadedSpring(md.Element):
     along: object = None
     DEPENDS = {"k": "", "q0": "", "M0": ""}   # constants; unlisted: "qt" (coordinates, time)
     MOVING = ("along",)                       # must move with a coordinate
+    RULES = {"k": ("nonnegative", "a stiffness must not be negative")}   # of its values
 
     def __post_init__(self):
         super().__post_init__()
@@ -154,3 +155,17 @@ def test_an_edited_element_never_runs_the_code_compiled_from_the_old_one():
     rest = 0.5 - 2.0 / 16.0
     assert stiffer.simulate(scene, params=VALUES).final(phi) == pytest.approx(
         rest + (1 - rest) * np.cos(np.sqrt(8.0)), abs=1e-7)
+
+
+def test_its_rule_refuses_a_negative_stiffness_by_name():
+    kappa = sp.Symbol("kappa")                     # no assumption: the element's rule
+    disc = md.Mechanism("loose disc", [phi])
+    disc.link("disc", J=I, angle=phi)
+    disc.add(PreloadedSpring("torsion", k=kappa, q0=q0, M0=M0, along=phi))
+    scene = md.Scene("swing", initial={phi: 1, md.speed(phi): 0}, t_end=0.1,
+                     backend="scipy")
+    with pytest.raises(md.ParameterError, match=r"preloadedspring 'torsion': k = kappa "
+                       r"is negative .*a stiffness must not be negative"):
+        disc.simulate(scene, params={I: 2.0, kappa: -8.0, q0: 0.5, M0: 2.0})
+    res = disc.simulate(scene, params={I: 2.0, kappa: 8.0, q0: 0.5, M0: 2.0})
+    assert res.final(phi) == pytest.approx(0.25 + 0.75 * np.cos(0.2), abs=1e-7)

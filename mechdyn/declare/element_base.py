@@ -17,8 +17,10 @@ subclass of :class:`Element` (a frozen dataclass) and nothing else:
 - :meth:`Element.output` and :meth:`Element.output_along`: the force or moment a
   scene records, and what it acts along (which gives its unit);
 - ``DEPENDS`` (what each attribute may depend on: ``q`` the coordinates, ``v``
-  speeds, ``t`` the time; ``"qt"`` when not listed) and ``MOVING`` (attributes that
-  must move with the coordinates, or they do no work).
+  speeds, ``t`` the time; ``"qt"`` when not listed), ``MOVING`` (attributes that
+  must move with the coordinates, or they do no work) and ``RULES`` (attribute ->
+  ``(rule, why)``: what its parameters' values must give, ``"nonnegative"``,
+  ``"fraction"``, ``"efficiency"`` or ``"peak"``).
 
 >>> import sympy as sp
 >>> class Plain:                      # the derivation's motion, one coordinate q
@@ -132,6 +134,7 @@ class Element:
 
     DEPENDS: ClassVar[dict] = {}
     MOVING: ClassVar[tuple] = ()
+    RULES: ClassVar[dict] = {}
 
     def __post_init__(self):
         if not isinstance(self.name, str) or not self.name:

@@ -39,6 +39,8 @@ class Link(Element):
     points: tuple = field(default=(), repr=False)
 
     DEPENDS = {"m": "", "J": "", "x": "qt", "y": "qt", "angle": "qt"}
+    RULES = dict.fromkeys(("m", "J"), ("nonnegative", "masses and inertias must not be "
+                                       "negative"))
 
     def __post_init__(self):
         super().__post_init__()
@@ -82,6 +84,7 @@ class Load(Element):
 
     DEPENDS = {"value": "qvt", "along": "qt", "efficiency": ""}
     MOVING = ("along",)
+    RULES = {"efficiency": ("efficiency", "an efficiency must lie in (0, 1]")}
 
     def __post_init__(self):
         super().__post_init__()
@@ -145,6 +148,7 @@ class Spring(Element):
     stretch: object = 0
 
     MOVING = ("stretch",)
+    RULES = {"k": ("nonnegative", "a stiffness must not be negative")}
 
     def __post_init__(self):
         super().__post_init__()
@@ -176,6 +180,7 @@ class Damper(Element):
     stretch: object = 0
 
     MOVING = ("stretch",)
+    RULES = {"c": ("nonnegative", "a damping coefficient must not be negative")}
 
     def __post_init__(self):
         super().__post_init__()
@@ -241,6 +246,8 @@ class Friction(Element):
 
     DEPENDS = {"moment": "qvt", "along": "qt", "peak": ""}
     MOVING = ("along",)
+    RULES = {"moment": ("nonnegative", "a friction magnitude must not be negative"),
+             "peak": ("peak", "static friction is never below sliding friction")}
     KIND = "friction"               # sliding: opposes the motion both ways
 
     def __post_init__(self):

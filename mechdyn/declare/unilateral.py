@@ -33,6 +33,8 @@ class OneWayClutch(Friction):
     release: object = 0
 
     DEPENDS = {**Friction.DEPENDS, "release": ""}
+    RULES = {**Friction.RULES,
+             "release": ("nonnegative", "a release moment must not be negative")}
     KIND = "one_way"
 
     def __post_init__(self):
@@ -70,6 +72,7 @@ class Stop(Element):
 
     DEPENDS = {"along": "qt", "lower": "", "upper": "", "restitution": ""}
     MOVING = ("along",)
+    RULES = {"restitution": ("fraction", "a coefficient of restitution lies in [0, 1]")}
 
     def work(self, motion):
         along, restitution = motion.plain(self.along), motion.plain(self.restitution)
@@ -139,6 +142,9 @@ class LossyGear(Constraint):
 
     _LAW = ("eta_forward", "eta_backward", "bearing_forward", "bearing_backward")
     DEPENDS = dict.fromkeys(_LAW, "qvt")
+    RULES = {"eta_forward": ("efficiency", "an efficiency must lie in (0, 1]"),
+             **dict.fromkeys(("bearing_forward", "bearing_backward"),
+                             ("nonnegative", "a bearing moment must not be negative"))}
 
     def __post_init__(self):
         what = f"lossy gear {self.name!r}"
