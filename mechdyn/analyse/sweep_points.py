@@ -18,6 +18,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from mechdyn.simulate.threads import single_threaded_blas
+
 _PARENT_CHECK = 0.5          # s between a worker's checks that its parent still lives
 
 
@@ -67,7 +69,9 @@ def _run_points(digest, blob, points):
     """Simulate a batch of grid points in a worker: their rows, and the time taken."""
     started = time.perf_counter()
     job = _install(digest, blob) if blob is not None else _jobs[digest]
-    return [_row(job, point) for point in points], time.perf_counter() - started
+    with single_threaded_blas():       # set once for the batch, not once per point
+        rows = [_row(job, point) for point in points]
+    return rows, time.perf_counter() - started
 
 
 def _row(job, point) -> dict:

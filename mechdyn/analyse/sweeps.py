@@ -52,6 +52,7 @@ from mechdyn.declare.parameters import ParameterSet, to_number
 from mechdyn.analyse.sweep_file import MAX_POINTS, TEXT_COLUMNS, SweepError, SweepFile, SweepFileError
 from mechdyn.analyse.sweep_points import (_Job, _load_kernels, _row, _run_points,
                                           _start_worker)
+from mechdyn.simulate.threads import single_threaded_blas
 
 __all__ = ["sweep", "Sweep", "SweepError", "SweepFileError", "MAX_POINTS", "IN_FLIGHT"]
 
@@ -260,13 +261,14 @@ def _run_here(job, todo, table, bar, seconds) -> list:
     bar is closed when none are left, or on an interruption)."""
     started, left = time.perf_counter(), []
     try:
-        for done, point in enumerate(todo):
-            if time.perf_counter() - started > seconds:
-                left = todo[done:]
-                break
-            table.add(_row(job, point))
-            if bar is not None:
-                bar.update()
+        with single_threaded_blas():   # set once for the points, not once per point
+            for done, point in enumerate(todo):
+                if time.perf_counter() - started > seconds:
+                    left = todo[done:]
+                    break
+                table.add(_row(job, point))
+                if bar is not None:
+                    bar.update()
     finally:
         if bar is not None and not left:
             bar.close()

@@ -36,6 +36,7 @@ from mechdyn.version import __version__
 from mechdyn import cache
 from mechdyn.compile.generate import generate
 from mechdyn.compile.generated import CompiledScene, SingularMassError
+from mechdyn.declare.element_base import behaviour_key
 from mechdyn.derive.equations import equations
 from mechdyn.derive.selection import select
 
@@ -54,7 +55,7 @@ def _generator_hash() -> str:
                    "compile/reroll.py", "compile/numba_model.py",
                    "compile/generated.py", "compile/compiler.py", "declare/elements.py",
                    "symbols.py", "compile/loop_code.py", "compile/output_code.py",
-                   "declare/unilateral.py", "derive/selection.py"):
+                   "declare/unilateral.py", "derive/selection.py", "declare/element_base.py"):
         digest.update((package / module).read_bytes())
     return digest.hexdigest()[:16]
 
@@ -79,7 +80,7 @@ def _declaration_key(mechanism, scene) -> str:
     parts = [__version__, _GENERATOR, [q.func.__name__ for q in mechanism.coordinates],
              sorted(mechanism.parameter_units.items())]   # units: checked when derived
     for element in mechanism.elements.values():
-        parts.append([type(element).__name__, element.name, list(element.tags),
+        parts.append([behaviour_key(type(element)), element.name, list(element.tags),
                       sorted((k, sp.srepr(v)) for k, v in element.expressions().items())])
     parts += [list(names), [list(r) for r in rigid]]
     if mechanism.constraints:

@@ -25,10 +25,8 @@ import weakref
 import sympy as sp
 from sympy.core.function import AppliedUndef
 
-from mechdyn.declare.elements import Damper, Friction, Link, Load, Spring
 from mechdyn.errors import DeclarationError, ParameterError
 from mechdyn.symbols import t
-from mechdyn.declare.unilateral import LossyGear, OneWayClutch, Stop
 
 __all__ = ["MechanismFacts", "facts_of", "scene_symbols", "check_values"]
 
@@ -44,22 +42,7 @@ _FACTS = {
     "even": (lambda v: v == int(v) and int(v) % 2 == 0, "an even number"),
     "odd": (lambda v: v == int(v) and int(v) % 2 == 1, "an odd number"),
 }
-# What the elements need of their constant attributes: (type, attribute) -> rule.
-_ROLES = {
-    (Link, "m"): ("nonnegative", "masses and inertias must not be negative"),
-    (Link, "J"): ("nonnegative", "masses and inertias must not be negative"),
-    (Spring, "k"): ("nonnegative", "a stiffness must not be negative"),
-    (Damper, "c"): ("nonnegative", "a damping coefficient must not be negative"),
-    (Friction, "moment"): ("nonnegative", "a friction magnitude must not be negative"),
-    (Friction, "peak"): ("peak", "static friction is never below sliding friction"),
-    (OneWayClutch, "release"): ("nonnegative", "a release moment must not be negative"),
-    (Stop, "restitution"): ("fraction", "a coefficient of restitution lies in [0, 1]"),
-    (LossyGear, "eta_forward"): ("efficiency", "an efficiency must lie in (0, 1]"),
-    (LossyGear, "bearing_forward"): ("nonnegative", "a bearing moment must not be negative"),
-    (LossyGear, "bearing_backward"): ("nonnegative", "a bearing moment must not be negative"),
-    (Load, "efficiency"): ("efficiency", "an efficiency must lie in (0, 1]"),
-}
-_FAULTS = {       # rule -> (test, how a value breaks it)
+_FAULTS = {       # rule -> (test, how a value breaks it): of an element's RULES
     "efficiency": (lambda v: 0 < v <= 1, "lies outside (0, 1]"),
     "fraction": (lambda v: 0 <= v <= 1, "lies outside [0, 1]"),
     "peak": (lambda v: v >= 1, "is below 1"),
@@ -130,8 +113,7 @@ class MechanismFacts:
                             f"{_assumption_text(other)} and {_assumption_text(symbol)}); "
                             "declare each parameter once and reuse its symbol")
                     self.usage.setdefault(symbol.name, set()).add(label)
-                rule = next((_ROLES[(cls, attribute)] for cls in type(element).__mro__
-                             if (cls, attribute) in _ROLES), None)
+                rule = getattr(element, "RULES", {}).get(attribute)
                 if rule and free and not expr.has(AppliedUndef, sp.Derivative, t):
                     self.roles.append((label, attribute, expr, {s.name for s in free}, rule))
 
