@@ -141,11 +141,9 @@ def test_sweep_points_give_the_same_rows_in_this_process_and_in_workers(monkeypa
 
 
 
-# Scenes with closed loops run on scipy by design (docs/kernels.md, "Which backend a
-# run takes"); every other bundled scene has a compiled form at its defaults.
-CLOSED_LOOPS = {"fourbar_flywheel", "quick_return", "watt_sixbar", "toggle_press"}
-BUNDLED = sorted(path.stem for path in (ROOT / "models").glob("*.py")
-                 if path.stem not in CLOSED_LOOPS)
+# Every bundled scene has a compiled form at its defaults, closed loops included
+# (docs/kernels.md, "Which backend a run takes").
+BUNDLED = sorted(path.stem for path in (ROOT / "models").glob("*.py"))
 
 
 @pytest.mark.slow
