@@ -119,22 +119,22 @@ def check_scene(mechanism, scene):
     check_given(mechanism, scene)
     known = _by_name(known_dimensions(mechanism))
     for condition in scene.until:
-        try:
-            _same(condition, [_plain(condition.expression), _plain(condition.value)],
-                  known, {})
-        except Misfit as misfit:
-            raise SceneError(f"scene {scene.name!r}: stop condition {condition!r} "
-                             f"{misfit}") from None
-        except MissingUnit as missing:
-            raise SceneError(f"scene {scene.name!r}: stop condition {condition!r} uses "
-                             f"{missing}, which has no unit") from None
+        _same_in_scene(scene, condition, [condition.expression, condition.value], known,
+                       f"stop condition {condition!r} ", f"stop condition {condition!r}")
     for key, value in scene.initial.items():
         if isinstance(value, sp.Basic):
-            try:
-                _same(key, [_plain(key), _plain(value)], known, {})
-            except Misfit as misfit:
-                raise SceneError(f"scene {scene.name!r}: initial value of {_plain(key)} = "
-                                 f"{_plain(value)}: {misfit}") from None
-            except MissingUnit as missing:
-                raise SceneError(f"scene {scene.name!r}: initial value of {_plain(key)} "
-                                 f"uses {missing}, which has no unit") from None
+            _same_in_scene(scene, key, [key, value], known,
+                           f"initial value of {_plain(key)} = {_plain(value)}: ",
+                           f"initial value of {_plain(key)}")
+
+
+def _same_in_scene(scene, key, expressions, known, misfit_says, missing_says):
+    """:func:`_same` for one entry of ``scene``; a misfit is a SceneError that starts
+    with ``misfit_says``, a symbol without a unit one that names ``missing_says``."""
+    try:
+        _same(key, [_plain(e) for e in expressions], known, {})
+    except Misfit as misfit:
+        raise SceneError(f"scene {scene.name!r}: {misfit_says}{misfit}") from None
+    except MissingUnit as missing:
+        raise SceneError(f"scene {scene.name!r}: {missing_says} uses {missing}, which has "
+                         "no unit") from None
