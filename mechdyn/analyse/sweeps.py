@@ -124,8 +124,10 @@ def sweep(mechanism, scene, params, grid, executor=None, out=None, progress=True
     with SweepFile(out, columns, names, record, fresh=fresh, wait=wait) as table:
         todo = [point for point in points if point not in table.rows]
         if todo:
+            refused = values.refused_points(names, todo)   # checked at once, not per point
             job = _Job(mechanism, scene, values.numbers, tuple(names), compiled.key,
-                       compiled.meta, compiled.source)
+                       compiled.meta, compiled.source,
+                       {todo[index]: error for index, error in refused.items()})
             bar = _bar(progress, len(points), len(table.rows))
             if executor is None and workers is None:
                 _load_kernels(compiled, scene)    # once, before any point or worker
