@@ -22,8 +22,12 @@ Limits and faults:
 - on Ctrl-C (or any error) the local worker processes are ended at once; they ignore
   SIGINT themselves and end on their own within a second if the main process is killed.
 
-A point whose simulation fails is recorded with its error text (and not retried by a
-rerun: delete its row to retry); the other points are kept.
+The grid's values are checked once for all points
+(:meth:`~mechdyn.declare.parameters.ParameterSet.refused_points`: a refused point's row
+keeps the error ``simulate`` raises for it), and a point runs from a template of the
+parameter vector (:class:`~mechdyn.simulate.repeated.RepeatedRuns`). A point whose
+simulation fails is recorded with its error text (and not retried by a rerun: delete its
+row to retry); the other points are kept.
 
 >>> import mechdyn as md
 >>> from concurrent.futures import ThreadPoolExecutor
