@@ -79,11 +79,11 @@ def _run_points(digest, blob, points):
 
 def _row(job, point) -> dict:
     """One grid point's row; a failure becomes the row's ``error``."""
+    if point in job.refused:
+        return _failed_row(job.names, point, job.refused[point])
     row = dict(zip(job.names, point))
     runs = _repeated_runs(job)
     try:
-        if point in job.refused:
-            raise job.refused[point]
         if runs is None:
             result = job.mechanism.simulate(job.scene, {**job.params, **row})
         else:
