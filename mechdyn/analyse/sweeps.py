@@ -22,8 +22,12 @@ Limits and faults:
 - on Ctrl-C (or any error) the local worker processes are ended at once; they ignore
   SIGINT themselves and end on their own within a second if the main process is killed.
 
-A point whose simulation fails is recorded with its error text (and not retried by a
-rerun: delete its row to retry); the other points are kept.
+The grid's values are checked once for all points
+(:meth:`~mechdyn.declare.parameters.ParameterSet.refused_points`: a refused point's row
+keeps the error ``simulate`` raises for it), and a point runs from a template of the
+parameter vector (:class:`~mechdyn.simulate.repeated.RepeatedRuns`). A point whose
+simulation fails is recorded with its error text (and not retried by a rerun: delete its
+row to retry); the other points are kept.
 
 >>> import mechdyn as md
 >>> from concurrent.futures import ThreadPoolExecutor
@@ -124,8 +128,10 @@ def sweep(mechanism, scene, params, grid, executor=None, out=None, progress=True
     with SweepFile(out, columns, names, record, fresh=fresh, wait=wait) as table:
         todo = [point for point in points if point not in table.rows]
         if todo:
+            refused = values.refused_points(names, todo)   # checked at once, not per point
             job = _Job(mechanism, scene, values.numbers, tuple(names), compiled.key,
-                       compiled.meta, compiled.source)
+                       compiled.meta, compiled.source,
+                       {todo[index]: error for index, error in refused.items()})
             bar = _bar(progress, len(points), len(table.rows))
             if executor is None and workers is None:
                 _load_kernels(compiled, scene)    # once, before any point or worker

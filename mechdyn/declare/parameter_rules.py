@@ -22,13 +22,14 @@ import functools
 import math
 import weakref
 
+import numpy as np
 import sympy as sp
 from sympy.core.function import AppliedUndef
 
 from mechdyn.errors import DeclarationError, ParameterError
 from mechdyn.symbols import t
 
-__all__ = ["MechanismFacts", "facts_of", "scene_symbols", "check_values"]
+__all__ = ["MechanismFacts", "facts_of", "scene_symbols", "check_values", "suspect_rows"]
 
 # Assumptions a value is checked against: fact -> (test on the float, what it must be).
 _FACTS = {
@@ -83,6 +84,73 @@ def check_values(facts, numbers, symbols_named):
             raise ParameterError(
                 f"parameter {', '.join(sorted(names))}: {label}: {attribute} = {expr}"
                 f"{where} {fault} with {_values_text(names, numbers)}; {why}")
+
+
+_NEAR_BOUND = 1e-9          # a computed value this close to a rule's bound: checked exactly
+
+
+def suspect_rows(facts, fixed, names, columns, symbols_named) -> np.ndarray:
+    """Rows of a grid that may break a rule of :func:`check_values`, all at once.
+
+    ``columns`` (rows x ``names``, floats) vary the values ``names`` of ``fixed`` (name
+    -> float, already checked). A row not flagged passes :func:`check_values`; a flagged
+    one is to be checked exactly (it may pass). Element expressions are evaluated on
+    the whole column in floating point, so a value within ``_NEAR_BOUND`` of a rule's
+    bound, or not finite, is flagged too.
+
+    >>> import sympy as sp, mechdyn as md
+    >>> phi = md.coordinate("phi")
+    >>> disc = md.Mechanism("disc", [phi])
+    >>> _ = disc.link("disc", J=2 * sp.Symbol("J", positive=True), angle=phi)
+    >>> facts = facts_of(disc)
+    >>> suspect_rows(facts, {"J": 1.0}, ["J"], np.array([[1.0], [-1.0], [0.0]]),
+    ...              lambda name: {facts.symbols[name]}).tolist()
+    [False, True, True]
+    """
+    columns = np.asarray(columns, dtype=float).reshape(len(columns), len(names))
+    flagged = np.zeros(len(columns), dtype=bool)
+    swept = dict(zip(names, columns.T))
+    for name, column in swept.items():
+        for symbol in symbols_named(name):
+            for fact in _true_facts(symbol):
+                holds = _FACTS[fact][0]
+                flagged |= [not holds(value) for value in column.tolist()]
+    known = fixed.keys() | swept.keys()
+    for _, _, expr, role_names, (rule, _) in facts.roles:
+        if not role_names & swept.keys() or not role_names <= known:
+            continue                     # checked with the fixed values, or not at all
+        number = _evaluated(expr, role_names, fixed, swept, len(columns))
+        holds = _FAULTS[rule][0]
+        flagged |= [not (math.isfinite(v) and holds(v)) or _near_bound(v)
+                    for v in number.tolist()]
+    return flagged
+
+
+def _evaluated(expr, role_names, fixed, swept, rows) -> np.ndarray:
+    """``expr`` at every row (floats; NaN where it has no finite real value)."""
+    if expr.is_Symbol:
+        return np.broadcast_to(swept.get(expr.name, fixed.get(expr.name)), rows)
+    symbols = sorted(expr.free_symbols, key=lambda s: s.name)
+    try:
+        function = _lambdified(expr, tuple(symbols))
+        with np.errstate(all="ignore"):
+            value = np.asarray(function(*(swept[s.name] if s.name in swept
+                                          else fixed[s.name] for s in symbols)))
+        if np.iscomplexobj(value):
+            value = np.where(value.imag == 0, value.real, np.nan)
+        return np.broadcast_to(value.astype(float), rows)
+    except Exception:                    # not evaluable in numpy: every row exactly
+        return np.full(rows, np.nan)
+
+
+@functools.lru_cache(maxsize=256)
+def _lambdified(expr, symbols):
+    return sp.lambdify(symbols, expr, "numpy")
+
+
+def _near_bound(value) -> bool:
+    """Within ``_NEAR_BOUND`` of 0 or 1, the bounds of the rules in ``_FAULTS``."""
+    return min(abs(value), abs(value - 1.0)) <= _NEAR_BOUND * max(1.0, abs(value))
 
 
 def _used_by(facts, names) -> str:

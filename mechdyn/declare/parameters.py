@@ -40,7 +40,8 @@ import sympy as sp
 from sympy.core.function import AppliedUndef
 
 from mechdyn.errors import MechdynError, ParameterError
-from mechdyn.declare.parameter_rules import MechanismFacts, check_values, facts_of, scene_symbols
+from mechdyn.declare.parameter_rules import (MechanismFacts, check_values, facts_of, scene_symbols,
+                                            suspect_rows)
 from mechdyn.symbols import t
 
 __all__ = ["ParameterSet", "to_number", "missing_values"]
@@ -174,6 +175,34 @@ class ParameterSet(Mapping):
             raise missing_values(missing, needed_by or f"{scene}: {', '.join(names)}",
                                  getattr(self.mechanism, "name", None))
         return [self.numbers[n] for n in names]
+
+    def refused_points(self, names, points) -> dict:
+        """``{index: ParameterError}``: the points (float values of ``names``, each
+        overriding these numbers) that ``ParameterSet`` refuses, with the error it raises;
+        the rules are applied to all points at once, and only the suspect points are
+        checked one by one (a sweep's grid).
+
+        >>> import mechdyn as md
+        >>> brake = md.load_model("models/shoe_brake.py")
+        >>> values = ParameterSet(brake.params, mechanism=brake.mechanism)
+        >>> print(values.refused_points(["P"], [(10.0,), (-5.0,)])[1])
+        parameter P = -5 is negative, but P is declared positive=True (used by friction 'shoe')
+        """
+        if self.mechanism is None or not points:
+            return {}
+        if set(names) <= self._symbols.keys():
+            suspects = suspect_rows(facts_of(self.mechanism), self.numbers, list(names),
+                                    points, self._symbols_named)
+        else:
+            suspects = [True] * len(points)          # unknown names: the exact error
+        refused = {}
+        for index in (i for i, suspect in enumerate(suspects) if suspect):
+            try:
+                ParameterSet({**self.numbers, **dict(zip(names, points[index]))},
+                             mechanism=self.mechanism, scene=self.scene)
+            except ParameterError as error:
+                refused[index] = error
+        return refused
 
     def by_symbol(self) -> dict:
         """``{symbol: float}`` for every numeric value, keyed by the mechanism's symbols

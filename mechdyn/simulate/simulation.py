@@ -38,8 +38,8 @@ from mechdyn.declare.scene import DEFAULT_ATOL, Scene
 from mechdyn.simulate.stepping import METHODS
 from mechdyn.units import finite
 
-__all__ = ["simulate", "initial_state", "given_initial", "atol_vector", "choose_method",
-           "METHODS"]
+__all__ = ["simulate", "initial_state", "given_initial", "atol_vector", "check_method",
+           "choose_method", "METHODS"]
 
 
 def simulate(mechanism, scene: Scene, params: dict, *, progress=None, max_steps=None,
@@ -69,10 +69,7 @@ def simulate(mechanism, scene: Scene, params: dict, *, progress=None, max_steps=
                              f"finite values ({', '.join(compiled.state_names)}), got "
                              f"{list(start)!r}")
     atol = atol_vector(compiled, mechanism, scene)
-    if scene.method != "auto" and scene.method not in (*METHODS, *KERNEL_ONLY):
-        raise SceneError(f"scene {scene.name!r}: unknown method {scene.method!r}"
-                         f"{did_you_mean(scene.method, (*METHODS, *KERNEL_ONLY))}; "
-                         f"use 'auto' or one of {', '.join((*METHODS, *KERNEL_ONLY))}")
+    check_method(scene)
     budget = Budget(scene.max_steps if max_steps is None else max_steps,
                     scene.max_wall_time if max_wall_time is None else max_wall_time)
     driver = Driver(compiled, base, scene, atol, mechanism, budget, progress, backend)
@@ -161,6 +158,14 @@ def _initial_slot(key, declared, scene, what="initial value"):
         return ("u", key.expr.func.__name__)
     raise SceneError(f"scene {scene.name!r}: {what} given for {key}, which is not a "
                      f"declared coordinate or its speed (coordinates: {sorted(declared)})")
+
+
+def check_method(scene):
+    """Refuse a scene whose method is not ``"auto"`` or one of the known ones."""
+    if scene.method != "auto" and scene.method not in (*METHODS, *KERNEL_ONLY):
+        raise SceneError(f"scene {scene.name!r}: unknown method {scene.method!r}"
+                         f"{did_you_mean(scene.method, (*METHODS, *KERNEL_ONLY))}; "
+                         f"use 'auto' or one of {', '.join((*METHODS, *KERNEL_ONLY))}")
 
 
 def atol_vector(compiled, mechanism, scene):
