@@ -323,6 +323,7 @@ class Driver:
         return method
 
     def _after_stiffness(self, t, method, mode):
+        self.plan.forget()
         if self.plan.stiff(method):
             return self._switch(t, method, self.plan.method(explicit_for(self.scene.rtol),
                                                               mode),
@@ -341,6 +342,7 @@ class Driver:
     def _after_failure(self, t, y, mode, method, message):
         """The next method to try after ``method`` failed at ``(t, y)``, or the error."""
         self._failed.append(method)
+        self.plan.forget()
         p = self.modes.p(mode)        # a failure at the edge of an expression's domain
         self._check_domains(t, y, p, start=self._domains, edge=_NEAR_EDGE)
         if self.auto:
