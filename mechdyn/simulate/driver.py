@@ -201,13 +201,14 @@ class Driver:
         held = run.hold_switching() if hold and self.auto else None
         while True:
             outcome = run.advance(min(_CHUNK[backend], hold) if held else _CHUNK[backend])
-            if held and run.counts["steps"] >= hold:
+            counts = run.counts
+            if held and counts["steps"] >= hold:
                 held = held()                  # the method may change again from here
             self.trajectory.changed()
-            counted = self._count(run.counts, counted, method, backend)
+            counted = self._count(counts, counted, method, backend)
             self._check_budget(outcome.t, run.h, method)
             self._report(outcome.t, t_end)
-            self._segment_steps = run.counts["steps"]
+            self._segment_steps = counts["steps"]
             if outcome.status == "chunk":
                 continue
             if outcome.status != "failed":

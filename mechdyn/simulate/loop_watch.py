@@ -50,8 +50,8 @@ class LoopWatch:
         allows (``rtol`` times the loops' size)."""
         from mechdyn.simulate.assembly import closure_parts
         _, grads, _, _ = closure_parts(self.c, 0.0, y0, p)
-        size = float(np.max(np.abs(grads)))
-        speed_scale = 1.0 + float(np.max(np.abs(y0[self.c.dof:])))
+        size = float(np.abs(grads).max())
+        speed_scale = 1.0 + float(np.abs(y0[self.c.dof:]).max())
         return self.rtol * size, self.rtol * size * speed_scale
 
     def margin_limits(self) -> tuple:

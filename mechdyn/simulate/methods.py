@@ -243,7 +243,7 @@ class BackendPlan:
         return self.functions is not None
 
     def compilable(self, mode) -> bool:
-        return mode_compilable(self.c, mode)
+        return not mode.groups or mode_compilable(self.c, mode)
 
     def method(self, name, mode) -> str:
         """The method a segment runs for a requested one: the kernels' own where they
