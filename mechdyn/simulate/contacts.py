@@ -144,7 +144,7 @@ def _impulse(view, u, rows, targets):
     rates and keeps the loops' speeds closed; returns it and the rows' impulses."""
     n = view.n
     loops = view.terms["constraint_gradient"].reshape(-1, n)
-    g = np.vstack([loops, view.gradients[rows].reshape(-1, n)])
+    g = np.concatenate([loops, view.gradients[rows].reshape(-1, n)])
     wanted = np.concatenate([-(loops @ u + view.terms["constraint_rate"]),
                              np.asarray(targets, dtype=float) - view.rates[rows]])
     m = len(g)
