@@ -38,7 +38,7 @@ COMPARED = ("RK45", "DOP853", "LSODA", "Radau", "BDF")     # a precision report'
 COMPARED_RTOLS = (1e-4, 1e-6, 1e-8, 1e-10)                # ... and tolerances
 KERNEL_ONLY = ("Rodas5P",)                 # methods only the compiled kernels have
 _KERNEL = ("DOP853", "Rodas5P")            # methods the compiled kernels have
-REMEASURE = 8              # segments of a mode per measurement of its stiffness (choose)
+REMEASURE = 16             # segments of a mode per measurement of its stiffness (choose)
 _STIFFNESS_LIMIT = 2000.0   # explicit steps forced by stability alone before it is stiff
 # Where the stability region of each explicit method crosses the negative real axis.
 STABILITY_LIMIT = {"DOP853": 6.0, "RK45": 3.3, "RK23": 2.5}
