@@ -201,13 +201,14 @@ class Driver:
         held = run.hold_switching() if hold and self.auto else None
         while True:
             outcome = run.advance(min(_CHUNK[backend], hold) if held else _CHUNK[backend])
-            if held and run.counts["steps"] >= hold:
+            counts = run.counts
+            if held and counts["steps"] >= hold:
                 held = held()                  # the method may change again from here
             self.trajectory.changed()
-            counted = self._count(run.counts, counted, method, backend)
+            counted = self._count(counts, counted, method, backend)
             self._check_budget(outcome.t, run.h, method)
             self._report(outcome.t, t_end)
-            self._segment_steps = run.counts["steps"]
+            self._segment_steps = counts["steps"]
             if outcome.status == "chunk":
                 continue
             if outcome.status != "failed":
@@ -323,6 +324,7 @@ class Driver:
         return method
 
     def _after_stiffness(self, t, method, mode):
+        self.plan.forget()
         if self.plan.stiff(method):
             return self._switch(t, method, self.plan.method(explicit_for(self.scene.rtol),
                                                               mode),
@@ -341,6 +343,7 @@ class Driver:
     def _after_failure(self, t, y, mode, method, message):
         """The next method to try after ``method`` failed at ``(t, y)``, or the error."""
         self._failed.append(method)
+        self.plan.forget()
         p = self.modes.p(mode)        # a failure at the edge of an expression's domain
         self._check_domains(t, y, p, start=self._domains, edge=_NEAR_EDGE)
         if self.auto:

@@ -103,7 +103,7 @@ class StateView:
 
     def tau_tolerance(self, i) -> float:
         """Mesh moments this small count as zero (a self-locking gear's corner)."""
-        return 1e-10 * (1.0 + float(np.max(np.abs(self.forcing), initial=0.0)))
+        return 1e-10 * (1.0 + float(np.abs(self.forcing).max(initial=0.0)))
 
 
 class FrictionModes:
@@ -173,7 +173,7 @@ class FrictionModes:
             return Mode(flags=flags)
         events = events if events is not None else []
         view = self.view(t, y, Mode(flags=flags))
-        rest = _AT_REST * (1.0 + float(np.max(np.abs(y[self.n:]), initial=0.0)))
+        rest = _AT_REST * (1.0 + float(np.abs(y[self.n:]).max(initial=0.0)))
         signs, free, candidates = [0.0] * self.k, set(), []
         for k in range(self.k):
             kind, rate = self.kinds[k], view.rates[k]

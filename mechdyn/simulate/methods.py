@@ -38,6 +38,7 @@ COMPARED = ("RK45", "DOP853", "LSODA", "Radau", "BDF")     # a precision report'
 COMPARED_RTOLS = (1e-4, 1e-6, 1e-8, 1e-10)                # ... and tolerances
 KERNEL_ONLY = ("Rodas5P",)                 # methods only the compiled kernels have
 _KERNEL = ("DOP853", "Rodas5P")            # methods the compiled kernels have
+REMEASURE = 16             # segments of a mode per measurement of its stiffness (choose)
 _STIFFNESS_LIMIT = 2000.0   # explicit steps forced by stability alone before it is stiff
 # Where the stability region of each explicit method crosses the negative real axis.
 STABILITY_LIMIT = {"DOP853": 6.0, "RK45": 3.3, "RK23": 2.5}
@@ -225,6 +226,7 @@ class BackendPlan:
         self.c, self.named, self.option = compiled, method, option
         self.functions = None
         self.why = ""
+        self.measured = {}       # mode -> (t measured, segments since): see choose
         if option == "auto" and uses_kernels(compiled, method):
             self.load()
 
@@ -241,7 +243,7 @@ class BackendPlan:
         return self.functions is not None
 
     def compilable(self, mode) -> bool:
-        return mode_compilable(self.c, mode)
+        return not mode.groups or mode_compilable(self.c, mode)
 
     def method(self, name, mode) -> str:
         """The method a segment runs for a requested one: the kernels' own where they
@@ -275,9 +277,36 @@ class BackendPlan:
         return method in (STIFF, "BDF", "LSODA", "Rodas5P")
 
     def choose(self, p, mode, t, y, scene) -> str:
-        """The method of a segment starting at ``(t, y)`` (sets ``why``)."""
+        """The method of a segment starting at ``(t, y)`` (sets ``why``). A mode whose
+        start was measured free of stiff modes keeps the explicit method for its next
+        ``REMEASURE - 1`` segments without measuring again, where the compiled kernel's
+        stiffness test watches them (nothing stuck): a stiff stretch ends such a
+        segment with status "stiff", and :meth:`forget` drops what was measured."""
         if self.named != "auto":
             self.why = "named in the scene"
             return self.method(self.named, mode)
+        explicit = explicit_for(scene.rtol)
+        key = self._guarded(mode)
+        known = self.measured.get(key) if key is not None else None
+        if known is not None and known[1] < REMEASURE:
+            self.measured[key] = (known[0], known[1] + 1)
+            self.why = (f"no stiff modes (measured at t = {known[0]:.6g} s in this mode; "
+                        "the kernel's stiffness test watches the segment)")
+            return self.method(explicit, mode)
         name, self.why = choose_method(self.c, p, y, t, scene.time_limit, scene.rtol)
+        if key is not None and name == explicit and self.why == "no stiff modes":
+            self.measured[key] = (float(t), 1)
+        elif key is not None:
+            self.measured.pop(key, None)
         return self.method(name, mode)
+
+    def forget(self):
+        """Measure every mode again (the kernel found a segment stiff, or it failed)."""
+        self.measured.clear()
+
+    def _guarded(self, mode):
+        """The key under which a mode's measurement is kept, None where its segments
+        would run without the kernel's stiffness test (on scipy, or something stuck)."""
+        if mode.groups or not self.active:
+            return None
+        return (mode.signs, mode.free, mode.flags)

@@ -55,11 +55,16 @@ def simulate(mechanism, scene: Scene, params: dict, *, progress=None, max_steps=
     """
     if not isinstance(scene, Scene):
         raise SceneError(f"simulate() needs a md.Scene, got {scene!r}")
-    values = ParameterSet(params, mechanism=mechanism, scene=scene)   # before any compiling
+    values, kept = checked_values(mechanism, scene, params)      # before any compiling
     compiled = compile_scene(mechanism, scene)
-    base = values.vector(compiled.param_names)
+    if kept.get("compiled") is not compiled:
+        kept.clear()
+        kept.update(compiled=compiled, base=values.vector(compiled.param_names))
+    base = list(kept["base"])
     if start is None:
-        y0 = initial_state(compiled, mechanism, scene, values.numbers)
+        if "y0" not in kept:
+            kept["y0"] = initial_state(compiled, mechanism, scene, values.numbers)
+        y0 = kept["y0"].copy()
     else:
         from mechdyn.declare.scene_units import check_given
         check_given(mechanism, scene)                 # its stop values' units
@@ -80,6 +85,24 @@ def simulate(mechanism, scene: Scene, params: dict, *, progress=None, max_steps=
             label_units(error.partial, mechanism, scene)
         raise
     return label_units(result, mechanism, scene)
+
+
+def checked_values(mechanism, scene, params) -> tuple:
+    """The :class:`ParameterSet` of a run and a dict for what follows from it (the
+    parameter vector, the assembled initial state), remembered per scene and parameter
+    values: a session's next run with the same values skips the checks and the loops'
+    assembly (the mechanism's memo is cleared by any change to the mechanism)."""
+    try:
+        key = tuple((k, type(v), repr(v) if type(v) is float else v) for k, v in params.items())
+        hash(key)
+    except (AttributeError, TypeError):                   # unhashable values: not kept
+        return ParameterSet(params, mechanism=mechanism, scene=scene), {}
+    hit = mechanism._memo.get(("values", id(scene)))
+    if hit is not None and hit[0] is scene and hit[1] == key:
+        return hit[2], hit[3]
+    values = ParameterSet(params, mechanism=mechanism, scene=scene)
+    mechanism._memo[("values", id(scene))] = (scene, key, values, {})
+    return values, mechanism._memo[("values", id(scene))][3]
 
 
 def label_units(result, mechanism, scene):
