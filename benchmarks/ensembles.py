@@ -16,15 +16,16 @@ in one run:
 
 and the one-time costs outside those figures: the scene's numba compilation (an empty
 disk cache) and its load from the disk cache in a fresh process. Times are minima over
-the repeats, wall clock and CPU time of this process (the machine is shared: on a
-loaded one the wall time is inflated, the CPU time of work done in this process much
-less); the target is 1,000 points through ``sweep`` in under 1 s, excluding the one
-compile.
+the repeats (the median wall time beside), wall clock and CPU time of this process (the
+machine is shared: on a loaded one the wall time is inflated, the CPU time of work done
+in this process much less); the target is 1,000 points through ``sweep`` in under 1 s,
+excluding the one compile.
 """
 from __future__ import annotations
 
 import argparse
 import os
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -97,16 +98,17 @@ def measure(points, repeats):
             started, cpu = time.perf_counter(), time.process_time()
             run()
             times[name].append((time.perf_counter() - started, time.process_time() - cpu))
-    return {name: (min(w for w, _ in values), min(c for _, c in values))
+    return {name: (min(w for w, _ in values), min(c for _, c in values),
+                   statistics.median(w for w, _ in values))
             for name, values in times.items()}
 
 
 def report(times, points, compile_seconds, load_seconds):
-    lines = [f"shoe brake, {points} points; minimum of the repeats", "",
+    lines = [f"shoe brake, {points} points; minimum (median) of the repeats", "",
              "| path | wall s | CPU s (this process) | ms per point (wall) | points per "
              "second (wall) |", "|---|---|---|---|---|"]
-    for name, (seconds, cpu) in times.items():
-        lines.append(f"| {name} | {seconds:.3f} | {cpu:.3f} | "
+    for name, (seconds, cpu, median) in times.items():
+        lines.append(f"| {name} | {seconds:.3f} ({median:.3f}) | {cpu:.3f} | "
                      f"{seconds / points * 1e3:.3f} | {points / seconds:,.0f} |")
     per_thousand = times["sweep, defaults"][0] * 1000 / points
     lines += ["", f"one-time: the scene's numba compilation {compile_seconds:.2f} s (empty "

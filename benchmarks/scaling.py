@@ -154,6 +154,7 @@ def measure_mechdyn(n):
     import numpy as np
     import mechdyn.kernels  # noqa: F401  (the kernel's own numba cache, not timed)
     from mechdyn.compile.numba_model import numba_functions
+    from mechdyn.derive.selection import select
     mech, scene, params, phi = chain(n)
     row = {"n": n}
     cpu = time.process_time()
@@ -267,13 +268,14 @@ def measure_constant(n):
     import mechdyn.compile.generate as generation
     from mechdyn.compile.generated import CompiledScene
     from mechdyn.compile.numba_model import numba_functions
+    from mechdyn.derive.selection import select
     mech, scene, params = relative_chain(n)
     eqs = mech.equations(scene)
     row, results, hoisting = {"n": n}, {}, generation.is_constant
     for name in ("once", "per_call"):
         if name == "per_call":
             generation.is_constant = lambda mass: False     # the generator before the hoist
-        meta, source = generation.generate(eqs, scene, mech.elements)
+        meta, source = generation.generate(eqs, select(mech, scene))
         generation.is_constant = hoisting
         compiled = CompiledScene(meta, source, f"constant-mass-{name}-{n}")
         p = compiled.parameter_vector(params)

@@ -19,6 +19,7 @@ from mechdyn.errors import (DeclarationError, DerivationError, MechdynError, Mec
 _LAZY = {
     **dict.fromkeys(["Damper", "Friction", "Gravity", "Link", "Load", "Spring"], "declare.elements"),
     **dict.fromkeys(["OneWayClutch", "Stop", "LossyGear"], "declare.unilateral"),
+    **dict.fromkeys(["Element", "Work"], "declare.element_base"),
     "table": "declare.tables", "Table": "declare.tables",
     "Mechanism": "machine", "Model": "declare.model_file", "load_model": "declare.model_file",
     "Scene": "declare.scene", "reaches": "declare.scene", "stopped": "declare.scene",

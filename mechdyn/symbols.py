@@ -21,7 +21,7 @@ from sympy.printing.conventions import split_super_sub
 from mechdyn.errors import DeclarationError
 
 __all__ = ["t", "coordinate", "coordinates", "speed", "acceleration", "plain",
-           "is_coordinate", "dotted_symbol", "difference", "same"]
+           "is_coordinate", "dotted_symbol", "difference", "same", "written"]
 
 t = sp.Symbol("t", real=True)
 
@@ -104,6 +104,19 @@ def plain(expr) -> sp.Symbol:
         if order in (1, 2) and len(expr.variable_count) == 1:
             return dotted_symbol(expr.expr.func.__name__, order)
     raise TypeError(f"{expr!r} is not a coordinate, a speed or an acceleration")
+
+
+def written(expr) -> str:
+    """An expression as a user reads it: coordinates and their derivatives as plain
+    symbols.
+
+    >>> phi = coordinate("phi")
+    >>> written(2 * sp.sin(phi) * speed(phi))
+    '2*phidot*sin(phi)'
+    """
+    expr = sp.sympify(expr)
+    expr = expr.xreplace({d: plain(d) for d in expr.atoms(sp.Derivative)})
+    return str(expr.xreplace({f: plain(f) for f in expr.atoms(AppliedUndef)}))
 
 
 # ------------------------------------------------------- comparing with a hand formula

@@ -23,6 +23,7 @@ array([1500.])
 """
 from __future__ import annotations
 
+import functools
 import math
 from fractions import Fraction
 
@@ -32,7 +33,7 @@ from mechdyn.errors import MechdynError, did_you_mean
 from mechdyn.parse import ValueTextError, quantity, unit_terms
 
 __all__ = ["UnitError", "Dimension", "DIMENSIONLESS", "to_si", "dimension", "convert",
-           "si_factor", "registry"]
+           "si_factor", "registry", "finite"]
 
 _BASES = {"[mass]": "kg", "[length]": "m", "[time]": "s", "[current]": "A",
           "[temperature]": "K", "[substance]": "mol", "[luminosity]": "cd"}
@@ -252,17 +253,38 @@ def to_si(value, unit=None) -> float:
     if isinstance(value, bool) or value is None:
         raise UnitError(f"{value!r} is not a value")
     if isinstance(value, str):
+        if unit is None or isinstance(unit, str):
+            return _cached_text_to_si(value, unit)
         return _text_to_si(value, unit)
     if hasattr(value, "dimensionality") and hasattr(value, "to_base_units"):
         return _quantity_to_si(value, unit)
+    return finite(value, UnitError, f"{value!r} is not a number, a text such as '2 kN' or a "
+                  "pint quantity", f"{value!r} is not finite")
+
+
+def finite(value, error, not_a_number, not_finite) -> float:
+    """``float(value)``, or ``error`` with the message ``not_a_number`` or ``not_finite``.
+
+    >>> finite("2.5", ValueError, "no number", "infinite")
+    2.5
+    >>> finite(float("inf"), ValueError, "no number", "infinite")
+    Traceback (most recent call last):
+    ValueError: infinite
+    """
     try:
         number = float(value)
     except (TypeError, ValueError):
-        raise UnitError(f"{value!r} is not a number, a text such as '2 kN' or a pint "
-                        "quantity") from None
+        raise error(not_a_number) from None
     if not math.isfinite(number):
-        raise UnitError(f"{value!r} is not finite")
+        raise error(not_finite)
     return number
+
+
+@functools.lru_cache(maxsize=4096)
+def _cached_text_to_si(text, unit):
+    """:func:`_text_to_si` of a text and a unit text, kept: every run of a scene
+    converts the same parameter texts."""
+    return _text_to_si(text, unit)
 
 
 def _text_to_si(text, unit):

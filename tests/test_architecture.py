@@ -1,6 +1,7 @@
 """The package reads as its pipeline: every import inside ``mechdyn`` (at module level or
-inside a function) points to the shared base, to its own stage or to an earlier one, and
-no module is over about 400 lines."""
+inside a function) points to the shared base, to its own stage or to an earlier one, no
+module imports itself through others (no circles, inside a stage either), and no module
+is over about 400 lines."""
 import ast
 from pathlib import Path
 
@@ -93,3 +94,72 @@ def test_the_test_sees_a_backward_import(tmp_path):
     assert all(STAGES.index(stage_of(t)) <= STAGES.index("declare") for _, t in lines)
     assert stage_of("mechdyn.report.document") == "report"
     assert stage_of("mechdyn.errors") == "base" and stage_of("mechdyn") == "facade"
+
+
+def import_graph(sources=SOURCES) -> dict:
+    """Module -> the mechdyn modules it imports (anywhere in the file)."""
+    graph = {}
+    for path in sources:
+        own = module_name(path)
+        graph[own] = {target for _, target in imports_of(path) if target != own}
+    return graph
+
+
+def circles(graph) -> list:
+    """The import circles of ``graph``: its strongly connected components of more than
+    one module (Tarjan's algorithm, iterative), each sorted."""
+    index, low, on_stack, stack, found = {}, {}, set(), [], []
+    for root in graph:
+        if root in index:
+            continue
+        work = [(root, iter(sorted(graph.get(root, ()))))]
+        index[root] = low[root] = len(index)
+        stack.append(root)
+        on_stack.add(root)
+        while work:
+            node, targets = work[-1]
+            target = next(targets, None)
+            if target is not None:
+                if target not in index:
+                    index[target] = low[target] = len(index)
+                    stack.append(target)
+                    on_stack.add(target)
+                    work.append((target, iter(sorted(graph.get(target, ())))))
+                elif target in on_stack:
+                    low[node] = min(low[node], index[target])
+                continue
+            work.pop()
+            if work:
+                low[work[-1][0]] = min(low[work[-1][0]], low[node])
+            if low[node] == index[node]:
+                component = []
+                while True:
+                    member = stack.pop()
+                    on_stack.discard(member)
+                    component.append(member)
+                    if member == node:
+                        break
+                if len(component) > 1:
+                    found.append(sorted(component))
+    return found
+
+
+def test_no_import_circles():
+    """No module imports itself through others, inside a stage or across stages."""
+    graph = import_graph()
+    found = [[f"{a} -> {b}" for a in circle for b in sorted(graph[a]) if b in circle]
+             for circle in circles(graph)]
+    assert not found, f"import circles: {found}"
+
+
+def test_the_test_sees_a_circle():
+    """The checker itself: a circle of three modules (and one of two inside it) is
+    found, a chain into it is not part of it, and a graph without one is clean."""
+    graph = {"a": {"b"}, "b": {"c"}, "c": {"a", "d"}, "d": set(), "e": {"a"}}
+    assert circles(graph) == [["a", "b", "c"]]
+    assert circles({"x": {"y"}, "y": {"x"}, "z": set()}) == [["x", "y"]]
+    assert circles({"x": {"y"}, "y": {"z"}, "z": set()}) == []
+    real = import_graph()
+    real["mechdyn.errors"] = real["mechdyn.errors"] | {"mechdyn.declare.elements"}
+    assert any({"mechdyn.errors", "mechdyn.declare.elements"} <= set(c)
+               for c in circles(real))

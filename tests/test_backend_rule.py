@@ -138,3 +138,21 @@ def test_sweep_points_give_the_same_rows_in_this_process_and_in_workers(monkeypa
     there = md.sweep(drive.mechanism, drive.scenes["start"], drive.params, grid,
                      progress=False)
     assert here.rows == there.rows and not here.failed
+
+
+
+# Every bundled scene has a compiled form at its defaults, closed loops included
+# (docs/kernels.md, "Which backend a run takes").
+BUNDLED = sorted(path.stem for path in (ROOT / "models").glob("*.py"))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", BUNDLED)
+def test_every_bundled_scene_runs_compiled_at_its_defaults(name):
+    pytest.importorskip("numba")
+    model = md.load_model(ROOT / "models" / f"{name}.py")
+    for scene in (s for s in model.scenes.values() if s.initial):
+        runs = [model.mechanism.simulate(scene, model.params) for _ in range(2)]
+        assert set(runs[0].stats["backends"]) == {"compiled"}, (scene.name, runs[0].stats)
+        assert runs[1].stats["backends"] == runs[0].stats["backends"]
+        np.testing.assert_array_equal(runs[1].y, runs[0].y)

@@ -367,7 +367,7 @@ def test_kernel_is_compiled_once_for_all_models():
 def test_every_compiled_kernel_module_keys_the_cache():
     from pathlib import Path
     from mechdyn.kernels import loop
-    python_side = {"__init__", "api"}
+    python_side = {"__init__", "api", "startup"}
     modules = {path.stem for path in Path(loop.__file__).parent.glob("*.py")}
     assert modules - python_side == set(loop.COMPILED_MODULES)
 
@@ -393,3 +393,30 @@ def test_bad_inputs_name_the_culprit():
         mk.Integration(functions, [1.0], 0.0, [1.0], directions=[0])
     with pytest.raises(md.ParameterError, match="y0"):
         mk.Integration(functions, [1.0], 0.0, [math.nan])
+
+
+def test_the_kernels_start_up_pauses_the_collector_and_respects_a_disabled_one():
+    import gc
+    import weakref
+    from mechdyn.kernels.startup import collector_paused
+
+    class Node:
+        pass
+    assert gc.isenabled()
+    with collector_paused():
+        assert not gc.isenabled()
+        garbage = Node()
+        garbage.itself = garbage               # a cycle made during the start-up ...
+        dead = weakref.ref(garbage)
+        del garbage
+        kept = Node()
+    assert gc.isenabled() and dead() is None  # ... freed at its end, not frozen
+    assert not any(o is kept for o in gc.get_objects())   # what lives is frozen
+    gc.disable()
+    try:
+        frozen = gc.get_freeze_count()
+        with collector_paused():
+            assert not gc.isenabled()
+        assert not gc.isenabled() and gc.get_freeze_count() == frozen
+    finally:
+        gc.enable()

@@ -373,7 +373,8 @@ def test_a_non_grashof_crank_swings_back_at_its_toggle_positions():
     assert np.ptp(kinetic + potential) < 1e-8 * kinetic[0]
 
 
-def test_a_change_point_stops_the_simulation_with_a_named_error_and_partial_result():
+@pytest.mark.parametrize("backend", ["auto", "scipy"])
+def test_a_change_point_stops_the_simulation_with_a_named_error_and_partial_result(backend):
     phi, th2, th3 = md.coordinates("phi theta_2 theta_3")
     parallelogram = md.Mechanism("parallelogram", [phi, th2, th3])
     parallelogram.link("crank", J=1, angle=phi)
@@ -382,11 +383,13 @@ def test_a_change_point_stops_the_simulation_with_a_named_error_and_partial_resu
     parallelogram.link("rocker", J=1, angle=th3)
     parallelogram.loop("ABCD", (1, phi), (2, th2), (-1, th3), (-2, 0))
     scene = md.Scene("run", initial={phi: np.pi / 2, md.speed(phi): 10, th2: 0.1,
-                                     th3: np.pi / 2}, t_end=3)
+                                     th3: np.pi / 2}, t_end=3, backend=backend)
     with pytest.raises(md.SimulationError, match=r"loop ABCD is singular.*short of "
                        r"3\.1415926\d, the singular position") as error:
         parallelogram.simulate(scene, {})
     partial = error.value.partial                         # all links in line at phi = pi
+    assert set(partial.stats["backends"]) <= {"compiled" if backend == "auto" else "scipy"}
+    assert backend == "scipy" or partial.stats["backends"]["compiled"] > 0
     assert np.all(np.isfinite(partial.y)) and partial.final(phi) < np.pi
     assert isinstance(error.value, md.LoopSingularError) and error.value.loop == "ABCD"
 

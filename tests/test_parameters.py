@@ -110,7 +110,7 @@ def test_the_same_parameter_twice_with_two_values_is_refused(brake):
 
 
 def test_all_missing_values_are_named_at_once(brake):
-    with pytest.raises(md.ParameterError, match="missing parameter values: P, R"):
+    with pytest.raises(md.ParameterError, match="give values for P, R"):
         brake.mechanism.simulate(brake.scenes["braking"], {"I": 0.4, "f": 0.2})
 
 

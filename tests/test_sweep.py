@@ -10,6 +10,7 @@ from concurrent.futures import Executor, Future
 from pathlib import Path
 
 import numpy as np
+import sympy as sp
 import pytest
 
 import mechdyn as md
@@ -158,3 +159,59 @@ def test_output_peaks_are_found_between_steps():
     table = md.sweep(model.mechanism, model.scenes["startup"], model.params,
                      {"J_f": [1.0, 2.5, 4.5, 9.0]}, executor=_Inline(), progress=False)
     np.testing.assert_allclose(table["peak:power:motor"], -power.fun, rtol=1e-4)
+
+
+def test_rows_are_those_of_a_loop_over_simulate_with_the_same_errors(brake):
+    """The grid is checked once and the points run from a parameter template: every row
+    must equal ``simulate`` at that point, a refused value keep simulate's own error, and
+    an initial speed that depends on a swept value (omega_0 = 1000 R) be evaluated per
+    point. Reference: t_stop = I omega_0 / (2 f P R) = 500 I / (f P), whatever R;
+    the angle omega_0 t_stop / 2."""
+    phi = brake.mechanism.coordinates[0]
+    R = next(s for s in brake.params if str(s) == "R")
+    scene = md.Scene("braking", effects=["shoe"], initial={phi: 0, md.speed(phi): 1000 * R},
+                     until=md.stopped(phi))
+    grid = {"P": [20.0, -3.0, 40.0], "R": [0.1, 0.2]}
+    table = md.sweep(brake.mechanism, scene, brake.params, grid, executor=_Inline(),
+                     progress=False)
+    p = _by_name(brake)
+    for row in table.rows:
+        values = {**p, "P": row["P"], "R": row["R"]}
+        if row["P"] < 0:
+            with pytest.raises(ParameterError) as refused:
+                brake.mechanism.simulate(scene, values)
+            assert row["error"] == f"ParameterError: {refused.value}"
+            assert "P = -3 is negative" in row["error"]
+            continue
+        result = brake.mechanism.simulate(scene, values)
+        assert row["error"] == "" and row["t_end"] == result.t_end
+        assert row["final:phi"] == result.y[0][-1] and row["final:phidot"] == result.y[1][-1]
+        t_stop = 500 * p["I"] / (p["f"] * row["P"])
+        assert row["t_end"] == pytest.approx(t_stop, rel=1e-9)
+        assert row["final:phi"] == pytest.approx(1000 * row["R"] * t_stop / 2, rel=1e-9)
+    assert len(table.failed) == 2
+
+
+def test_an_efficiency_at_its_bound_passes_and_one_beyond_gets_the_exact_error():
+    """An element rule evaluated on the whole grid column at once: efficiency e1 * e2
+    must lie in (0, 1]; 1 exactly passes, 1.25 and 0 are refused with the words a
+    plain ``simulate`` uses."""
+    phi = md.coordinate("phi")
+    e1, e2 = sp.symbols("e1 e2")
+    disc = md.Mechanism("geared disc", [phi])
+    disc.link("disc", J=1, angle=phi)
+    disc.load("drive", 1, along=phi, efficiency=e1 * e2)
+    scene = md.Scene("spin", initial={phi: 0, md.speed(phi): 0}, t_end=1)
+    table = md.sweep(disc, scene, {"e1": 0.5, "e2": 2.0}, {"e1": [0.25, 0.5, 0.625, 0.0]},
+                     executor=_Inline(), progress=False)
+    for row in table.rows:
+        try:
+            disc.simulate(scene, {"e1": row["e1"], "e2": 2.0})
+        except ParameterError as error:
+            assert row["error"] == f"ParameterError: {error}"
+        else:
+            assert row["error"] == ""
+    assert [row["error"] == "" for row in table.rows] == [True, True, False, False]
+    assert "lies outside (0, 1]" in table.rows[2]["error"]
+    # the drive delivers eta * 1 N*m to the unit inertia: phi(1 s) = eta / 2
+    np.testing.assert_allclose(table["final:phi"][:2], [0.25, 0.5], rtol=1e-9)

@@ -27,6 +27,7 @@ import sympy as sp
 from scipy.optimize import brentq
 
 from mechdyn.errors import MechdynError
+from mechdyn.declare.parameters import ParameterSet, missing_values
 from mechdyn.symbols import t
 
 __all__ = ["characteristic", "Characteristic", "OperatingPoint", "CharacteristicError"]
@@ -146,6 +147,7 @@ def characteristic(mechanism, scene=None, params=None, drive=None, speeds=None,
     cycle : float
         Period of the coordinate for position-dependent moments (their mean is used).
     """
+    values = ParameterSet(params, mechanism=mechanism, scene=scene)   # before deriving
     eqs = mechanism.equations(scene)
     if eqs.dof != 1:
         raise CharacteristicError(
@@ -154,7 +156,6 @@ def characteristic(mechanism, scene=None, params=None, drive=None, speeds=None,
             "to one")
     names = _drive(mechanism, eqs, drive)
     q, u = eqs.q[0], eqs.u[0]
-    values = {str(k): v for k, v in (params or {}).items()}
     start = scene.t_start if scene is not None else 0.0
     motor = sp.Add(*[eqs.generalized_forces[n][0] for n in names])
     rest = sp.Add(*[column[0] for n, column in eqs.generalized_forces.items()
@@ -164,10 +165,10 @@ def characteristic(mechanism, scene=None, params=None, drive=None, speeds=None,
         notes.append(f"moments depend on the time: evaluated at t = {start:g} s")
     if (motor + rest).has(q):
         notes.append(f"moments depend on {q}: mean over a cycle of {cycle:.6g}")
-    motor_at = _curve(motor, q, u, values, start, cycle, "the motor")
-    load_at = _curve(-rest, q, u, values, start, cycle, "the load")
-    motor_slope = _curve(sp.diff(motor, u), q, u, values, start, cycle, "the motor")
-    load_slope = _curve(sp.diff(-rest, u), q, u, values, start, cycle, "the load")
+    motor_at = _curve(motor, q, u, values, start, cycle, "the motor's moment")
+    load_at = _curve(-rest, q, u, values, start, cycle, "the load's moment")
+    motor_slope = _curve(sp.diff(motor, u), q, u, values, start, cycle, "the motor's moment")
+    load_slope = _curve(sp.diff(-rest, u), q, u, values, start, cycle, "the load's moment")
     low, high = speeds if speeds is not None else (0.0, _top_speed(motor_at, scene, eqs))
     grid = np.linspace(low, high, _GRID)
     motor_values, load_values = motor_at(grid), load_at(grid)
@@ -208,15 +209,14 @@ def _drive(mechanism, eqs, drive):
 
 
 def _curve(expr, q, u, values, start, cycle, what):
-    """A vectorized function of the speed: ``expr`` with the parameters, at the start
-    time, averaged over a cycle of ``q`` where it depends on it."""
-    expr = sp.sympify(expr)
-    expr = expr.xreplace({s: values[s.name] for s in expr.free_symbols if s.name in values})
-    expr = sp.sympify(expr).subs(t, start)
+    """A vectorized function of the speed: ``expr`` with the parameter ``values`` (a
+    :class:`~mechdyn.declare.parameters.ParameterSet`), at the start time, averaged over
+    a cycle of ``q`` where it depends on it."""
+    expr = values.substitute(expr).subs(t, start)
     missing = expr.free_symbols - {q, u}
     if missing:
-        raise CharacteristicError(f"characteristic: give values for "
-                                  f"{', '.join(sorted(map(str, missing)))} ({what})")
+        raise missing_values(sorted(map(str, missing)), f"{what} (characteristic)",
+                             getattr(values.mechanism, "name", None))
     f = sp.lambdify((q, u), expr, "numpy")
     if not expr.has(q):
         return lambda w: np.broadcast_to(np.asarray(f(0.0, w), dtype=float), np.shape(w)) * 1.0

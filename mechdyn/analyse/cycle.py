@@ -168,18 +168,19 @@ def _parameter_sets(mechanism, scenes, defaults, params) -> list:
 
 
 def _with_powers(mechanism, scene):
-    """The scene run for a phase: its outputs plus ``power:NAME`` of every load,
-    friction and damper (for the work per phase); returns ``(scene, {name: label})``."""
+    """The scene run for a phase: its outputs plus ``power:NAME`` of every element
+    whose work is not stored as potential energy (loads, friction, dampers: the work per
+    phase); returns ``(scene, {name: label})``."""
     from dataclasses import replace
 
-    from mechdyn.declare.elements import Damper, Friction, Load
     eqs = mechanism.equations(scene)
     labelled = scene.labelled_outputs()
     labels = {label for label, _ in labelled}
     by_item = {item: label for label, item in labelled if isinstance(item, str)}
     powers, extra = {}, []
     for name in eqs.elements:
-        if not isinstance(mechanism.elements[name], (Load, Friction, Damper)):
+        work = eqs.works[name]
+        if not work.forces or work.potential != 0:     # no work, or stored (springs)
             continue
         item = f"power:{name}"
         label = by_item.get(item)

@@ -11,7 +11,6 @@ phase's ``offset``).
 """
 from __future__ import annotations
 
-import csv
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -19,7 +18,7 @@ import numpy as np
 
 from mechdyn.errors import MechdynError
 from mechdyn.simulate.events import Event
-from mechdyn.simulate.result import sample_times
+from mechdyn.simulate.series import SeriesResult
 
 __all__ = ["CycleResult", "Phase", "PhaseEnergy"]
 
@@ -90,7 +89,7 @@ class Phase:
                 f"{self.end:.6g} s, {self.reason}>")
 
 
-class CycleResult:
+class CycleResult(SeriesResult):
     """What a duty cycle computed (see the module): ``phases``, ``phase(key)``, ``t``,
     ``y``, ``res[key]``, ``final(key)``, ``at(times, key)``, ``outputs``,
     ``outputs_at(times)``, ``accelerations_at(times)``, ``events`` (cycle time),
@@ -150,10 +149,6 @@ class CycleResult:
                 parts.append(np.full(len(p.result.t), np.nan))
         return np.concatenate(parts)
 
-    def final(self, key) -> float:
-        """The last value of a coordinate, speed, acceleration or output."""
-        return float(self[key][-1])
-
     @cached_property
     def outputs(self) -> dict:
         """The outputs at the step points by label (NaN in phases without them)."""
@@ -178,16 +173,8 @@ class CycleResult:
             out[:, mask] = evaluate(phase, local)
         return out
 
-    def at(self, times, key=None):
-        """Dense states at cycle ``times``: a dict of all states, or one state's values."""
-        states = self.trajectory.at(times)
-        scalar = np.ndim(times) == 0
-        if key is None:
-            return {name: (row[0] if scalar else row)
-                    for name, row in zip(self.state_names, states)}
-        name = _state_name(key, self.state_names)
-        row = states[self.state_names.index(name)]
-        return row[0] if scalar else row
+    def _state_row(self, key) -> int:
+        return self.state_names.index(_state_name(key, self.state_names))
 
     def outputs_at(self, times) -> dict:
         """Outputs at cycle ``times`` from the dense output (NaN where not recorded)."""
@@ -210,9 +197,6 @@ class CycleResult:
         names = np.array([p.name for p in self.phases], dtype=object)
         index = self._by_phase(times, lambda p, local: np.full(len(local), p.number - 1), 1)
         return names[index[0].astype(int)]
-
-    def sample_times(self, sample) -> np.ndarray:
-        return sample_times(float(self.t[0]), float(self.t[-1]), sample)
 
     def energy(self):
         """Kinetic and potential energy at the step points: ``(T, V)`` arrays."""
@@ -239,38 +223,6 @@ class CycleResult:
         data.update(zip(accelerations, acc))
         data.update(outputs)
         return data
-
-    def to_csv(self, path, sample=None, units=None):
-        """Write the columns with a header row (``phase``: the phase's name); ``units``
-        converts columns as :meth:`mechdyn.simulate.result.Result.to_csv` does."""
-        data = self.columns(sample)
-        if units is not None:
-            from mechdyn.display import Display, column_units
-            shown, si = Display(units), column_units(self)
-            shown.check(si)
-            converted = {}
-            for name, values in data.items():
-                if name == "phase":
-                    converted[name] = values
-                    continue
-                values, unit = shown.values(name, si.get(name, ""), values)
-                converted[f"{name} [{unit}]" if unit else name] = values
-            data = converted
-        from mechdyn.atomic import replacing
-        with replacing(path, "w", newline="") as handle:
-            writer = csv.writer(handle)
-            writer.writerow(list(data))
-            for row in zip(*data.values()):
-                writer.writerow([v if isinstance(v, str) else repr(float(v)) for v in row])
-        return path
-
-    def to_pandas(self):
-        """The columns as a ``pandas.DataFrame`` (needs pandas)."""
-        try:
-            import pandas
-        except ImportError:
-            raise MechdynError("to_pandas() needs pandas: pip install pandas") from None
-        return pandas.DataFrame(self.columns())
 
     def plot(self, path=None, points=400, sample=None, units=None):
         """One figure of the whole cycle (as :meth:`mechdyn.simulate.result.Result.plot`), the

@@ -26,12 +26,19 @@ swing of the excess work ``W(phi) = integral (M(phi, omega_mean) - mean M) dphi`
 >>> _ = machine.link("crank and flywheel", J=J, angle=phi)
 >>> _ = machine.load("motor", md.motors.dc_shunt(400, 110)(md.speed(phi)), along=phi)
 >>> _ = machine.load("process", 20 * sp.cos(phi), along=phi)
->>> running = md.steady_running(machine, md.Scene("run", initial={phi: 0,
-...                             md.speed(phi): 100}, t_end=1), {J: 2})
+>>> scene = md.Scene("run", initial={phi: 0, md.speed(phi): 100}, t_end=1)
+>>> running = md.steady_running(machine, scene, {J: 2})
 >>> round(running.omega_mean, 3)       # the motor balances at 110 (1 - 0) = 110 rad/s
 110.0
 >>> round(running.delta, 4)            # 2 A / (omega sqrt((J omega)^2 + b^2)), b = 400/110
 0.0017
+
+The flywheel for ``delta = 0.01``: ``J = 0.3289`` (from the linearised ``delta`` above);
+the textbook ``Delta E_max = 2 A = 40 J`` gives ``40 / (0.01 * 110^2) = 0.3306``:
+
+>>> sized = md.flywheel(machine, scene, {J: 2}, delta=0.01, inertia=J)
+>>> round(sized.inertia, 4), round(sized.textbook, 4)
+(0.3289, 0.3306)
 """
 from __future__ import annotations
 
@@ -45,7 +52,7 @@ from scipy.optimize import brentq, minimize_scalar
 
 from mechdyn.compile.compiler import compile_scene
 from mechdyn.errors import SceneError
-from mechdyn.declare.parameters import ParameterSet
+from mechdyn.declare.parameters import ParameterSet, missing_values
 from mechdyn.analyse.shooting import Floquet, PeriodicError
 from mechdyn.symbols import t
 
@@ -124,7 +131,9 @@ class SteadyRunning:
         return finish(fig, path)
 
 
-def _check(mechanism, scene):
+def _check(mechanism, scene, params):
+    """The scene's equations and the checked parameter values (checked before the
+    equations are derived)."""
     from mechdyn.declare.scene import Scene
     if not isinstance(scene, Scene):
         raise SceneError(f"steady running needs a md.Scene, got {scene!r}")
@@ -132,6 +141,7 @@ def _check(mechanism, scene):
         raise SceneError(f"scene {scene.name!r} stops at "
                          f"{', '.join(map(repr, scene.until))}: a run that ends at a stop "
                          "condition has no periodic regime to find; use a scene without until=")
+    values = ParameterSet(params, mechanism=mechanism, scene=scene)
     eqs = mechanism.equations(scene)
     if eqs.switching:
         raise PeriodicError(f"scene {scene.name!r}: Coulomb friction, stops or one-way "
@@ -142,7 +152,7 @@ def _check(mechanism, scene):
             f"scene {scene.name!r}: steady running in the crank angle needs one coordinate "
             f"and equations free of the time t ({eqs.name!r} has {eqs.dof} coordinates"
             f"{'' if eqs.dof != 1 else ' and depends on t'}); use md.periodic_steady_state")
-    return eqs
+    return eqs, values
 
 
 def _cycle_map(compiled, p, phi0, cycle, omega0, dense=False):
@@ -193,12 +203,11 @@ def steady_running(mechanism, scene, params, cycle=2 * math.pi, *,
     -------
     SteadyRunning
     """
-    eqs = _check(mechanism, scene)
+    eqs, values = _check(mechanism, scene, params)
     cycle = float(cycle)
     if not (math.isfinite(cycle) and cycle > 0):
         raise PeriodicError(f"cycle = {cycle} must be positive and finite")
     compiled = compile_scene(mechanism, scene)
-    values = ParameterSet(params, mechanism=mechanism, scene=scene)
     p = compiled.parameter_vector(values)
     phi0, omega0 = _start(compiled, mechanism, scene, values.numbers, speed_guess)
     tolerance = 1e3 * _RTOL
@@ -296,30 +305,16 @@ def flywheel(mechanism, scene, params, delta, inertia, cycle=2 * math.pi) -> Fly
 
     Examples
     --------
-    The machine of the module's example, ``J w w' = 400 (1 - w/110) + 20 cos(phi)``:
-    ``delta = 2 A / (w sqrt((J w)^2 + b^2)) = 0.01`` gives ``J = 0.3289`` (linearised);
-    the textbook ``Delta E_max = 2 A = 40 J`` gives ``40 / (0.01 * 110^2) = 0.3306``.
-
-    >>> import sympy as sp, mechdyn as md
-    >>> phi = md.coordinate("phi")
-    >>> J = sp.Symbol("J", positive=True)
-    >>> machine = md.Mechanism("machine", [phi])
-    >>> _ = machine.link("crank and flywheel", J=J, angle=phi)
-    >>> _ = machine.load("motor", md.motors.dc_shunt(400, 110)(md.speed(phi)), along=phi)
-    >>> _ = machine.load("process", 20 * sp.cos(phi), along=phi)
-    >>> scene = md.Scene("run", initial={phi: 0, md.speed(phi): 100}, t_end=1)
-    >>> sized = md.flywheel(machine, scene, {J: 2}, delta=0.01, inertia=J)
-    >>> round(sized.inertia, 4), round(sized.textbook, 4)
-    (0.3289, 0.3306)
+    The module's example: its machine, ``J w w' = 400 (1 - w/110) + 20 cos(phi)``, needs
+    ``J = 0.3289`` for ``delta = 2 A / (w sqrt((J w)^2 + b^2)) = 0.01`` (linearised).
     """
-    eqs = _check(mechanism, scene)
+    eqs, values = _check(mechanism, scene, params)
     if not 0 < float(delta) < 1:
         raise PeriodicError(f"delta = {delta} must lie between 0 and 1")
-    values = ParameterSet(params, mechanism=mechanism, scene=scene)
     params = values.numbers
     key = str(inertia)
     if key not in params:
-        raise PeriodicError(f"flywheel: give a starting value of {inertia} in params")
+        raise missing_values([key], "flywheel sizing (its starting value)", mechanism.name)
     inertia = next((s for s in eqs.reduced_inertia.free_symbols if s.name == key), None)
     if inertia is None:
         raise PeriodicError(f"flywheel: {key} does not enter the reduced inertia "

@@ -12,9 +12,7 @@ import numpy as np
 import sympy as sp
 
 from mechdyn.compile.codegen import list_function
-from mechdyn.derive.lagrange import _efficiency_factor
-from mechdyn.declare.elements import Damper, Friction, Gravity, Joint, Link, Load, Spring
-from mechdyn.declare.unilateral import Stop
+from mechdyn.declare.elements import Joint, Link
 from mechdyn.errors import MechdynError
 from mechdyn.symbols import t
 
@@ -34,6 +32,8 @@ class LinkMotion:
     the kinematic states of a one-DOF mechanism (open or with loops)."""
 
     def __init__(self, mech, params, scene=None, guess=None):
+        from mechdyn.declare.parameters import ParameterSet
+        values = ParameterSet(params, mechanism=mech, scene=scene)    # before deriving
         self.mech, self.params = mech, dict(params or {})
         self.eqs = eqs = mech.equations(scene)
         if eqs.rheonomic:
@@ -45,11 +45,9 @@ class LinkMotion:
         self.linkage = None
         if eqs.constraints:
             from mechdyn.analyse.linkage import Linkage
-            self.linkage = Linkage(mech, params, guess, scene)
+            self.linkage = Linkage(mech, values, guess, scene)
         self.links = {n: e for n, e in mech.elements.items() if isinstance(e, Link)}
-        from mechdyn.declare.parameters import ParameterSet
-        self.values = {s: sp.Float(v) for s, v in
-                       ParameterSet(params, mechanism=mech, scene=scene).by_symbol().items()}
+        self.values = {s: sp.Float(v) for s, v in values.by_symbol().items()}
         self.names = tuple(str(q) for q in eqs.q)
         self._compile()
 
@@ -87,41 +85,26 @@ class LinkMotion:
         self.motion = list_function("motion", arguments, [], exprs)
 
     def _loads(self):
-        """``(name, value expression, {link: (cx, cy, c_angle)})`` of every load, spring,
-        damper and gravity force the scene includes."""
-        eqs = self.eqs
+        """``(name, value expression, {link: (cx, cy, c_angle)})`` of every force the
+        scene's elements exert (a weight: ``GRAVITY:LINK``, straight down on its link)."""
+        motion = _PrescribedMotion(self)
         out = []
-        for name in eqs.elements:
+        for name in self.eqs.elements:
             element = self.mech.elements[name]
-            if isinstance(element, (Friction, Stop)):
+            work = element.work(motion)
+            if work.sliding is not None or work.contacts:
                 raise KinetostaticsError(f"{type(element).__name__.lower()} {name!r}: "
                                          "kinetostatics prescribes the motion, leave "
                                          "friction and stops out of the scene")
-            if isinstance(element, Gravity):
-                g = self._plain(element.g)
-                for link_name, link in self.links.items():
-                    out.append((f"{name}:{link_name}", -self._plain(link.m) * g,
-                                {link_name: (0.0, 1.0, 0.0)}))
-                continue
-            along, value = self._load_value(element)
-            out.append((name, value, self._attribute(name, along, getattr(element, "on", ()))))
+            for index, (value, along) in enumerate(work.forces):
+                if along in motion.weighed:
+                    link = motion.weighed[along]
+                    out.append((f"{name}:{link}", value, {link: (0.0, 1.0, 0.0)}))
+                    continue
+                label = name if len(work.forces) == 1 else f"{name}:{index}"
+                out.append((label, value,
+                            self._attribute(label, along, getattr(element, "on", ()))))
         return out
-
-    def _load_value(self, element):
-        eqs = self.eqs
-        if isinstance(element, Load):
-            along, value = self._plain(element.along), self._plain(element.value)
-            if element.efficiency is not None:
-                rate = sum((sp.diff(along, q) * u for q, u in zip(eqs.q, eqs.u)), sp.S.Zero)
-                value = value * _efficiency_factor(value * rate, self._plain(element.efficiency))
-            return along, value
-        stretch = self._plain(element.stretch)
-        if isinstance(element, Spring):
-            return stretch, -self._plain(element.k) * stretch
-        if isinstance(element, Damper):
-            rate = sum((sp.diff(stretch, q) * u for q, u in zip(eqs.q, eqs.u)), sp.S.Zero)
-            return stretch, -self._plain(element.c) * rate
-        raise KinetostaticsError(f"{element.name!r}: not a load")   # pragma: no cover
 
     def _attribute(self, name, along, on):
         """The links a load acts on and its force/moment per unit value on each: the
@@ -158,6 +141,31 @@ class LinkMotion:
             else:
                 q[:, j], u[:, j], a[:, j] = self.linkage.state(phi[j], omega[j], eps[j])
         return phi, omega, eps, q, u, a
+
+
+class _PrescribedMotion:
+    """The motion elements write their forces with (:mod:`mechdyn.declare.element_base`):
+    plain symbols with the parameters' values; a link's height is a marker symbol, so a
+    weight is attributed to its link even where the link's centre does not move."""
+
+    def __init__(self, link_motion):
+        self.plain, eqs = link_motion._plain, link_motion.eqs
+        self.q, self.u = eqs.q, eqs.u
+        self.weighed = {sp.Dummy(f"y_{name}"): name for name in link_motion.links}
+        self._heights = [(name, self.plain(link_motion.links[name].m), marker)
+                         for marker, name in self.weighed.items()]
+
+    def position(self, expr, owner):
+        return self.plain(expr)
+
+    def law(self, expr, along, owner):
+        return self.plain(expr)
+
+    def rate(self, expr):
+        return sum((sp.diff(expr, q) * u for q, u in zip(self.q, self.u)), sp.S.Zero)
+
+    def heights(self):
+        return self._heights
 
 
 def _second_derivative(expr, q, u, a):

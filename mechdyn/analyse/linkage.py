@@ -25,64 +25,15 @@ is kept, through change points too (:mod:`mechdyn.analyse.linkage_walk`). Speeds
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
-from mechdyn.declare.elements import Constraint
-from mechdyn.errors import MechdynError
+from mechdyn.analyse.linkage_types import (CrankSweep, Grashof, LinkageError, Singularity,
+                                           grashof)
 from mechdyn.compile.linkage_code import LinkageFunctions
+from mechdyn.declare.elements import Constraint
 from mechdyn.symbols import is_coordinate, t
 
 __all__ = ["Linkage", "LinkageError", "CrankSweep", "Singularity", "Grashof", "grashof"]
-
-
-class LinkageError(MechdynError, ValueError):
-    """A linkage that cannot be analysed as asked: not assembled at a crank angle, no
-    loops, a four-bar question to another linkage. ``at``: the crank angle, if any."""
-
-    def __init__(self, message, at=None):
-        super().__init__(message)
-        self.at = at
-
-
-@dataclass(frozen=True)
-class CrankSweep:
-    """Kinematics along the independent coordinate (one-DOF linkages): ``phi`` (N),
-    ``q``, ``ratio`` (``dq/dphi``), ``second`` (``d2q/dphi2``), one row per coordinate
-    (``names``); ``inertia`` (``I_red``) and ``inertia_slope`` (``dI_red/dphi``)."""
-    phi: np.ndarray
-    q: np.ndarray
-    ratio: np.ndarray
-    second: np.ndarray
-    inertia: np.ndarray
-    inertia_slope: np.ndarray
-    names: tuple
-
-    def __getitem__(self, name):
-        """Positions of a coordinate by name or coordinate: ``sweep["theta_2"]``."""
-        return self.q[self._row(name)]
-
-    def _row(self, name):
-        key = name.func.__name__ if is_coordinate(name) else str(name)
-        if key not in self.names:
-            raise KeyError(f"{name!r}: not a coordinate ({', '.join(self.names)})")
-        return self.names.index(key)
-
-
-@dataclass(frozen=True)
-class Singularity:
-    """A special position of a linkage: ``kind`` ("toggle": the loop locks the
-    dependent coordinates, the crank cannot pass; "change point": the constraints
-    themselves lose rank), the ``loop`` that locks, the crank angle ``at``."""
-    kind: str
-    loop: str
-    at: float
-    coordinate: str
-
-    def __str__(self):
-        return (f"{self.kind} of loop {self.loop} at {self.coordinate} = {self.at:.9g} rad "
-                f"({np.degrees(self.at):.4f} deg)")
 
 
 class Linkage:
@@ -105,7 +56,9 @@ class Linkage:
     """
 
     def __init__(self, mechanism, params=None, guess=None, scene=None, guess_at=None):
+        from mechdyn.declare.parameters import ParameterSet
         self.mechanism = mechanism
+        values = ParameterSet(params, mechanism=mechanism, scene=scene)  # before deriving
         self.eqs = eqs = mechanism.equations(scene)
         if not eqs.constraints:
             raise LinkageError(f"{mechanism.name!r} has no loops; declare them with "
@@ -118,8 +71,8 @@ class Linkage:
         self.independent = [eqs.q.index(q) for q in eqs.independent]
         self.dependent = [i for i in range(self.n) if i not in self.independent]
         self.functions = LinkageFunctions(eqs)
-        self.p = self.functions.parameter_vector(params or {})
-        self.params = dict(params or {})
+        self.p = self.functions.parameter_vector(values)
+        self.params = dict(values)
         self._last = self._start(guess, scene, guess_at)
 
     # ------------------------------------------------------------- positions
@@ -282,57 +235,3 @@ class Linkage:
     from mechdyn.analyse.linkage_limits import (coupler_curve, crank_range,  # noqa: E402
                                  extremes, grashof, singularities, transmission_angle)
     from mechdyn.analyse.linkage_describe import describe  # noqa: E402
-
-
-@dataclass(frozen=True)
-class Grashof:
-    """Grashof's classification of a four-bar: ``kind`` in words ("crank-rocker",
-    "double-crank (drag link)", "double-rocker (Grashof)", "rocker-crank",
-    "triple-rocker (non-Grashof)"; at s + l = p + q: "parallelogram",
-    "anti-parallelogram" (the branch, from a linkage), "deltoid (kite)" or e.g.
-    "crank-rocker with change points"), ``grashof`` (s + l
-    <= p + q: some link turns fully), ``change_point`` (s + l = p + q), the link lengths
-    ``shortest``, ``longest`` and which link is shortest, ``crank_turns`` (the input link
-    makes full turns)."""
-    kind: str
-    grashof: bool
-    change_point: bool
-    shortest: str
-    lengths: dict
-    crank_turns: bool
-
-    def __str__(self):
-        values = ", ".join(f"{k} {v:.6g}" for k, v in self.lengths.items())
-        return f"{self.kind} ({values}; shortest: {self.shortest})"
-
-
-def grashof(ground, crank, coupler, rocker, tolerance=1e-12) -> Grashof:
-    """Classify a four-bar by its link lengths (Grashof's criterion).
-
-    >>> str(grashof(3, 1, 3, 2.5))
-    'crank-rocker (ground 3, crank 1, coupler 3, rocker 2.5; shortest: crank)'
-    >>> grashof(2, 3, 3.5, 5).kind
-    'triple-rocker (non-Grashof)'
-    >>> grashof(3, 1, 3, 1).kind, grashof(3, 3, 1, 1).kind    # s + l = p + q
-    ('parallelogram or anti-parallelogram', 'deltoid (kite)')
-    """
-    lengths = {"ground": abs(float(ground)), "crank": abs(float(crank)),
-               "coupler": abs(float(coupler)), "rocker": abs(float(rocker))}
-    if min(lengths.values()) <= 0:
-        raise LinkageError(f"four-bar link lengths must be positive, got {lengths}")
-    ordered = sorted(lengths.values())
-    excess = ordered[0] + ordered[3] - ordered[1] - ordered[2]
-    shortest = min(lengths, key=lengths.get)
-    change = abs(excess) <= tolerance * ordered[3]
-    if excess > 0 and not change:
-        return Grashof("triple-rocker (non-Grashof)", False, False, shortest, lengths, False)
-    kind = {"ground": "double-crank (drag link)", "crank": "crank-rocker",
-            "coupler": "double-rocker (Grashof)", "rocker": "rocker-crank"}[shortest]
-    if change:
-        near = lambda x, y: abs(lengths[x] - lengths[y]) <= tolerance * ordered[3]  # noqa
-        kind = ("parallelogram or anti-parallelogram" if near("crank", "rocker") and
-                near("coupler", "ground") else "deltoid (kite)" if
-                (near("crank", "coupler") and near("rocker", "ground")) or
-                (near("crank", "ground") and near("coupler", "rocker")) else
-                f"{kind} with change points")
-    return Grashof(kind, True, change, shortest, lengths, shortest in ("ground", "crank"))

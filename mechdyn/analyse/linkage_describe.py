@@ -29,6 +29,7 @@ import sympy as sp
 from mechdyn.analyse.linkage_limits import (answers, branch_sweep, crank_range, extremes,
                                             grashof, is_constant, singularities,
                                             transmission_angle)
+from mechdyn.analyse.linkage_types import LinkageError
 from mechdyn.declare.elements import Constraint
 from mechdyn.errors import MechdynError
 
@@ -38,7 +39,6 @@ __all__ = ["describe", "linkage_class"]
 def linkage_class(self):
     """The class of a four-bar or slider-crank in words (with its lengths), or None
     for another linkage."""
-    from mechdyn.analyse.linkage import LinkageError
     try:
         return str(grashof(self))
     except LinkageError:

@@ -28,6 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
+from mechdyn.declare.parameters import ParameterSet
 from mechdyn.declare.parameters import exact_floats as _exact
 from mechdyn.derive import inverse
 from mechdyn.derive.analytic import AnalyticError
@@ -83,6 +84,7 @@ def loop_driving_moment(mech, motion, params=None, scene=None, drive=None, guess
     from mechdyn.analyse.linkage import Linkage
     if not isinstance(motion, Motion):
         raise AnalyticError(f"driving_moment: motion must be a md.Motion, got {motion!r}")
+    values = ParameterSet(params, mechanism=mech, scene=scene)        # before deriving
     eqs = mech.equations(scene)
     if len(eqs.independent) != 1:
         raise AnalyticError(f"driving_moment: {mech.name!r} has {len(eqs.independent)} "
@@ -106,9 +108,8 @@ def loop_driving_moment(mech, motion, params=None, scene=None, drive=None, guess
     moment = sp.Add(*[column[i].xreplace(speeds) * _ratio(eqs, i)
                       for name, column in eqs.generalized_forces.items()
                       if name not in left_out for i in range(eqs.dof) if column[i] != 0])
-    values = {s: v for s, v in ((sp.Symbol(str(k)), v) for k, v in (params or {}).items())}
-    expression = (inertia * a + slope / 2 * u**2 - moment).xreplace(values)
-    linkage = Linkage(mech, params, guess, scene)
+    expression = (inertia * a + slope / 2 * u**2 - moment).xreplace(values.exact())
+    linkage = Linkage(mech, values, guess, scene)
     window = None if motion.window is None else _exact(sp.sympify(motion.window))
     return LoopDrivingMoment(expression, None, window, linkage, motion.law, left_out)
 

@@ -33,6 +33,8 @@ import numpy as np
 import sympy as sp
 from scipy.optimize import brentq, minimize_scalar, root
 
+from mechdyn.analyse.linkage_types import CrankSweep, LinkageError, Singularity
+from mechdyn.analyse.linkage_types import grashof as classify
 from mechdyn.analyse.linkage_walk import CHANGE_POINT, _weakest_row
 from mechdyn.errors import MechdynError
 
@@ -61,7 +63,6 @@ def answers(what):
     def wrap(function):
         @wraps(function)
         def analysis(self, *args, **kwargs):
-            from mechdyn.analyse.linkage import LinkageError
             try:
                 return function(self, *args, **kwargs)
             except MechdynError:
@@ -146,7 +147,6 @@ def singularities(self, start=None, points=721) -> list:
     """Toggle positions (ends of the crank's range) and change points over one crank
     revolution from ``start``, each a :class:`~mechdyn.analyse.linkage.Singularity` naming its
     loop and crank angle, in the order met."""
-    from mechdyn.analyse.linkage import Singularity
     self._one_dof("singularities")
     name = self.names[self.independent[0]]
     start = self._last[self.independent[0]] if start is None else float(start)
@@ -236,7 +236,6 @@ def branch_sweep(self, start, points=361, limits="find"):
     """A sweep over one crank revolution from ``start``, or for a crank that cannot turn
     fully over its range on this branch, 1e-6 of it short of the toggles: walked from
     ``start`` towards each end (walking away from a toggle could take either branch)."""
-    from mechdyn.analyse.linkage import CrankSweep
     limits = crank_range(self, start, points) if limits == "find" else limits
     here = self.position(start)
     if limits is None:
@@ -268,7 +267,6 @@ def extremes(self, coordinate, start=None, points=721) -> list:
     rocker's ends of swing, a slider's dead centres. A list of ``(crank angle, value)``
     over one revolution from ``start`` (or over the crank's range on this branch);
     empty for a coordinate that turns fully or stays constant."""
-    from mechdyn.analyse.linkage import LinkageError
     sweep_start = self._last[self.independent[0]] if start is None else float(start)
     sweep = branch_sweep(self, sweep_start, points)
     row = sweep._row(coordinate)
@@ -312,7 +310,6 @@ def _four_bar(self):
     """The roles of a four-bar loop: (lengths by role, term angles by role, signs,
     index of each role in the loop's order)."""
     from mechdyn.declare.elements import Constraint
-    from mechdyn.analyse.linkage import LinkageError
     loops = [e for e in self.mechanism.elements.values() if isinstance(e, Constraint)]
     if len(loops) != 1 or len(loops[0].terms) != 4:
         raise LinkageError(f"{self.mechanism.name!r} is not a four-bar (one loop of four "
@@ -340,7 +337,6 @@ def _four_bar(self):
 def grashof(self):
     """Grashof's classification of a four-bar loop (terms in order around the loop); a
     parallelogram's branch at the current position names it or its crossed form."""
-    from mechdyn.analyse.linkage import grashof as classify
     lengths, angles, _ = _four_bar(self)
     found = classify(lengths["ground"], lengths["crank"], lengths["coupler"],
                      lengths["rocker"])

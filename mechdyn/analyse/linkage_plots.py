@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from mechdyn.analyse.linkage_types import LinkageError
 from mechdyn.plotting import finish, pyplot
 
 __all__ = ["revolution", "plot_linkage", "plot_kinetostatics"]
@@ -53,7 +54,6 @@ def plot_linkage(linkage, path=None, points=361, paths=None):
 
 
 def _transmission_panel(linkage, sweep, ax, degrees):
-    from mechdyn.analyse.linkage import LinkageError
     try:
         angle = np.degrees(linkage.transmission_angle(sweep))
     except LinkageError:            # not a four-bar: the dependent positions instead

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from mechdyn.analyse.linkage_types import LinkageError
 from mechdyn.compile.loop_numeric import rank_margin
 
 __all__ = ["margin", "derivatives", "NEAR_CHANGE", "CHANGE_POINT"]
@@ -190,7 +191,6 @@ def _remember(self, q, tangent):
 
 
 def _undetermined(self, q):
-    from mechdyn.analyse.linkage import LinkageError
     at = float(q[self.independent[0]])
     raise LinkageError(
         f"{self.mechanism.name!r}: {self._independent_text(at)} is a change point of loop "

@@ -16,13 +16,9 @@ scene's own: the compiled kernels for DOP853 and ``"auto"`` where numba is insta
 scipy's solvers for the others); the scene's compilation, for scipy and for the kernels,
 happens once before any timing. Each row names the backend its steps took.
 
->>> import sympy as sp, mechdyn as md
->>> phi = md.coordinate("phi")
->>> brake = md.Mechanism("brake", [phi])
->>> _ = brake.link("disc", J=sp.Symbol("I"), angle=phi)
->>> _ = brake.friction("shoe", 0.8, along=phi)
->>> braking = md.Scene("braking", initial={phi: 0, md.speed(phi): 100}, until=md.stopped(phi))
->>> table = md.work_precision(brake, braking, {sp.Symbol("I"): 0.4},
+>>> import mechdyn as md
+>>> model = md.load_model("models/shoe_brake.py")    # stops after 50 s: closed form
+>>> table = md.work_precision(model.mechanism, model.scenes["braking"], model.params,
 ...                           methods=["RK45", "Radau"], rtols=[1e-6], repeats=1)
 >>> table.reference.kind, [row.method for row in table.rows]
 ('closed form', ['RK45', 'Radau'])
@@ -40,6 +36,7 @@ import numpy as np
 from mechdyn.errors import MechdynError, SimulationError
 from mechdyn.simulate.methods import COMPARED, COMPARED_RTOLS
 from mechdyn.declare.parameters import ParameterSet
+from mechdyn.tabular import Table
 
 __all__ = ["work_precision", "WorkPrecision", "Row", "Reference", "DEFAULT_METHODS",
            "DEFAULT_RTOLS"]
@@ -121,28 +118,29 @@ class WorkPrecision:
         meeting = [r for r in self.rows if not r.failed and r.error <= target_error]
         return min(meeting, key=lambda r: r.time) if meeting else None
 
-    def __str__(self):
-        ref = self.reference
-        lines = [f"Work-precision: {self.mechanism_name} — scene {self.scene.name!r}",
-                 f"reference: {ref.description}"]
-        lines += [f"  note: {n}" for n in ref.notes]
-        header = (f"{'method':<8} {'backend':<8} {'rtol':>7} {'atol':>9} {'final err':>9} "
-                  f"{'L2 err':>9} "
-                  f"{'event err':>9} {'time ms':>9} {'runs':>4} {'nfev':>7} {'njev':>5} "
-                  f"{'steps':>6}")
-        lines += [header, "-" * len(header)]
+    def table(self) -> Table:
+        """The rows as a :class:`~mechdyn.tabular.Table` (times in ms; a failed run's
+        message in the last column, a method run for another, e.g. ``auto``, there too)."""
+        rows = []
         for r in self.rows:
-            start = f"{r.method:<8} {r.backend or '-':<8} {r.rtol:>7.0e} " \
-                f"{_atol_text(r.atol):>9}"
+            start = [r.method, r.backend or "-", r.rtol,
+                     float(r.atol) if isinstance(r.atol, (int, float)) else "per state"]
             if r.failed:
-                lines.append(f"{start}  FAILED: {r.failure[:90]}")
+                rows.append(start + [None] * 8 + [f"FAILED: {r.failure[:90]}"])
                 continue
             worst = max((e for _, e in r.event_errors), default=None)
-            worst = "-" if worst is None else f"{worst:.1e}"
-            used = f"  ({r.used})" if r.used != r.method else ""
-            lines.append(f"{start} {r.final_error:>9.1e} {r.l2_error:>9.1e} {worst:>9} "
-                         f"{r.time * 1e3:>9.2f} {r.runs:>4} {r.nfev:>7} {r.njev:>5} "
-                         f"{r.steps:>6}{used}")
+            rows.append(start + [r.final_error, r.l2_error, worst, r.time * 1e3, r.runs,
+                                 r.nfev, r.njev, r.steps,
+                                 f"({r.used})" if r.used != r.method else ""])
+        caption = [f"Work-precision: {self.mechanism_name} — scene {self.scene.name!r}",
+                   f"reference: {self.reference.description}"]
+        caption += [f"  note: {n}" for n in self.reference.notes]
+        return Table(["method", "backend", "rtol", "atol", "final err", "L2 err",
+                      "event err", "time ms", "runs", "nfev", "njev", "steps", ""], rows,
+                     "\n".join(caption), (None, None, ".0e", ".0e", ".1e", ".1e", ".1e", ".2f"))
+
+    def __str__(self):
+        lines = [self.table().text()]
         labels = sorted({label for r in self.rows for label, _ in r.event_errors})
         if labels:
             lines.append(f"event err: relative to the run's duration; events: "
@@ -181,10 +179,6 @@ class WorkPrecision:
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)
         return finish(fig, path)
-
-
-def _atol_text(atol):
-    return f"{atol:.0e}" if isinstance(atol, (int, float)) else "per state"
 
 
 # ------------------------------------------------------------------------- entry
@@ -233,11 +227,12 @@ def work_precision(mech, scene, params, methods=DEFAULT_METHODS, rtols=DEFAULT_R
     'DOP853'
     """
     from mechdyn.simulate.methods import uses_kernels
+    params = ParameterSet(params, mechanism=mech, scene=scene)     # before any compiling
     compiled = mech.compile(scene)     # compile (or load) once, outside the timing
+    params.vector(compiled.param_names)                            # none missing
     if uses_kernels(compiled, "auto"):
         from mechdyn.compile.numba_model import numba_functions
         numba_functions(compiled, jac=True)          # Rodas5P's, too
-    params = ParameterSet(params, mechanism=mech, scene=scene)     # bad values: refused here
     reference = _reference(mech, scene, params, points, reference_rtol, check_rtol)
     rows = [_row(mech, scene, params, method, rtol, repeats, reference, points)
             for method in methods for rtol in rtols]

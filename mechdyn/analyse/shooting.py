@@ -14,7 +14,7 @@ from scipy.integrate import solve_ivp
 
 from mechdyn.compile.compiler import compile_scene
 from mechdyn.errors import MechdynError, SceneError
-from mechdyn.declare.parameters import ParameterSet
+from mechdyn.declare.parameters import ParameterSet, missing_values
 from mechdyn.symbols import t
 
 __all__ = ["Floquet", "PeriodicError", "NoPeriodicSolutionError", "forcing_period"]
@@ -137,6 +137,7 @@ def forcing_period(mechanism, scene, params) -> float:
     >>> round(md.forcing_period(shaker, None, {}), 9)     # gcd(3, 2) = 1
     6.283185307
     """
+    values = ParameterSet(params, mechanism=mechanism, scene=scene)
     eqs = mechanism.equations(scene)
     exprs = list(eqs.mass_matrix) + list(eqs.smooth_forcing)
     trig = {f for e in exprs for f in e.atoms(sp.sin, sp.cos) if t in f.free_symbols}
@@ -152,11 +153,13 @@ def forcing_period(mechanism, scene, params) -> float:
     rates = []
     for f in trig:
         rate = sp.diff(f.args[0], t)
-        number = _substitute(rate, params)
-        if t in rate.free_symbols or not number.is_number:
+        number = values.substitute(rate)
+        if t in rate.free_symbols:
             raise PeriodicError(f"{eqs.name!r}: cannot infer the period from {f} (its "
-                                "argument is not omega*t plus terms free of t, or a parameter "
-                                "has no value); give period=T")
+                                "argument is not omega*t plus terms free of t); give period=T")
+        if not number.is_number:
+            raise missing_values(sorted(s.name for s in number.free_symbols),
+                                 f"the period of {f}", eqs.name)
         if number != 0:
             rates.append(abs(float(number)))
     base = min(rates)
@@ -170,16 +173,13 @@ def forcing_period(mechanism, scene, params) -> float:
     return 2 * math.pi * denominator / (base * numerator)
 
 
-def _substitute(expr, params):
-    """``expr`` with the parameter values (keys: symbols or names) put in."""
-    return ParameterSet(params).substitute(expr)
-
-
-def _period_value(period, params, mechanism, scene) -> float:
+def _period_value(period, values, mechanism, scene) -> float:
+    """``T`` from ``period`` (a number or an expression of parameters) with the checked
+    parameter ``values``, or inferred from the equations."""
     if period is None:
-        return forcing_period(mechanism, scene, params)
+        return forcing_period(mechanism, scene, values)
     if isinstance(period, sp.Basic):
-        period = _substitute(period, params)
+        period = values.substitute(period)
     try:
         value = float(period)
     except (TypeError, ValueError):
@@ -218,15 +218,15 @@ def _problem(mechanism, scene, params, period, rtol, atol) -> _Problem:
         raise SceneError(f"scene {scene.name!r} stops at {labels}: a run that ends at a "
                          "stop condition has no periodic regime to find; use a scene "
                          "without until=")
+    values = ParameterSet(params, mechanism=mechanism, scene=scene)   # before deriving
     eqs = mechanism.equations(scene)
     if eqs.switching:
         raise PeriodicError(f"scene {scene.name!r}: Coulomb friction, stops or one-way "
                             f"elements ({', '.join(eqs.switching)}) switch between "
                             "modes; the periodic analysis needs smooth equations (leave "
                             "them out of the scene's effects)")
-    values = ParameterSet(params, mechanism=mechanism, scene=scene)
     params = values.numbers
-    T = _period_value(period, params, mechanism, scene)
+    T = _period_value(period, values, mechanism, scene)
     compiled = compile_scene(mechanism, scene)
     p = compiled.parameter_vector(values)
     guess = _guess(compiled, mechanism, scene, params)

@@ -14,14 +14,18 @@ import pickle
 import signal
 import threading
 import time
-from dataclasses import dataclass
+import weakref
+from dataclasses import dataclass, field
 
 import numpy as np
+
+from mechdyn.simulate.repeated import RepeatedRuns
+from mechdyn.simulate.threads import single_threaded_blas
 
 _PARENT_CHECK = 0.5          # s between a worker's checks that its parent still lives
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)     # hashed by identity: a key of _runs
 class _Job:
     """What every point needs: pickled once per sweep, unpickled once per worker."""
     mechanism: object
@@ -31,6 +35,7 @@ class _Job:
     key: str
     meta: dict
     source: str
+    refused: dict = field(default_factory=dict)   # point -> its ParameterError
 
 
 _jobs: dict = {}          # per worker process: digest -> _Job
@@ -67,23 +72,50 @@ def _run_points(digest, blob, points):
     """Simulate a batch of grid points in a worker: their rows, and the time taken."""
     started = time.perf_counter()
     job = _install(digest, blob) if blob is not None else _jobs[digest]
-    return [_row(job, point) for point in points], time.perf_counter() - started
+    with single_threaded_blas():       # set once for the batch, not once per point
+        rows = [_row(job, point) for point in points]
+    return rows, time.perf_counter() - started
 
 
 def _row(job, point) -> dict:
     """One grid point's row; a failure becomes the row's ``error``."""
+    if point in job.refused:
+        return _failed_row(job.names, point, job.refused[point])
     row = dict(zip(job.names, point))
+    runs = _repeated_runs(job)
     try:
-        result = job.mechanism.simulate(job.scene, {**job.params, **row})
+        if runs is None:
+            result = job.mechanism.simulate(job.scene, {**job.params, **row})
+        else:
+            result = runs.run(point)
     except Exception as error:          # recorded in the row; the sweep goes on
-        row["error"] = f"{type(error).__name__}: {error}"
-        return row
+        return _failed_row(job.names, point, error)
     row.update(t_end=result.t_end, reason=result.reason, error="")
     for name, values in zip(result.state_names, result.y):
         row[f"final:{name}"] = float(values[-1])
     for label, value in _peaks(result, job.meta["output_labels"]).items():
         row[f"peak:{label}"] = value
     return row
+
+
+def _failed_row(names, point, error) -> dict:
+    """The row of a point that failed with ``error``."""
+    return {**dict(zip(names, point)), "error": f"{type(error).__name__}: {error}"}
+
+
+_runs: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()   # _Job -> RepeatedRuns
+
+
+def _repeated_runs(job):
+    """The job's :class:`~mechdyn.simulate.repeated.RepeatedRuns`, set up once per
+    process; None where that fails (then each point goes through ``simulate``, which
+    raises the point's own error)."""
+    if job not in _runs:
+        try:
+            _runs[job] = RepeatedRuns(job.mechanism, job.scene, job.params, job.names)
+        except Exception:
+            _runs[job] = None
+    return _runs[job]
 
 
 def _peaks(result, labels, points=1001) -> dict:

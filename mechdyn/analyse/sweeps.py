@@ -22,8 +22,12 @@ Limits and faults:
 - on Ctrl-C (or any error) the local worker processes are ended at once; they ignore
   SIGINT themselves and end on their own within a second if the main process is killed.
 
-A point whose simulation fails is recorded with its error text (and not retried by a
-rerun: delete its row to retry); the other points are kept.
+The grid's values are checked once for all points
+(:meth:`~mechdyn.declare.parameters.ParameterSet.refused_points`: a refused point's row
+keeps the error ``simulate`` raises for it), and a point runs from a template of the
+parameter vector (:class:`~mechdyn.simulate.repeated.RepeatedRuns`). A point whose
+simulation fails is recorded with its error text (and not retried by a rerun: delete its
+row to retry); the other points are kept.
 
 >>> import mechdyn as md
 >>> from concurrent.futures import ThreadPoolExecutor
@@ -47,11 +51,12 @@ from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 import numpy as np
 
 from mechdyn.version import __version__
-from mechdyn.errors import ParameterError
+from mechdyn.errors import ParameterError, did_you_mean
 from mechdyn.declare.parameters import ParameterSet, to_number
 from mechdyn.analyse.sweep_file import MAX_POINTS, TEXT_COLUMNS, SweepError, SweepFile, SweepFileError
 from mechdyn.analyse.sweep_points import (_Job, _load_kernels, _row, _run_points,
                                           _start_worker)
+from mechdyn.simulate.threads import single_threaded_blas
 
 __all__ = ["sweep", "Sweep", "SweepError", "SweepFileError", "MAX_POINTS", "IN_FLIGHT"]
 
@@ -113,9 +118,9 @@ def sweep(mechanism, scene, params, grid, executor=None, out=None, progress=True
                                 or workers < 1):
         raise SweepError(f"sweep: workers = {workers!r} must be a whole number >= 1")
     from mechdyn.compile.compiler import compile_scene
+    values = ParameterSet(params, mechanism=mechanism, scene=scene)   # before any compiling
     compiled = compile_scene(mechanism, scene)
-    names, points = _grid_points(grid, compiled, max_points)
-    values = ParameterSet(params, mechanism=mechanism, scene=scene)
+    names, points = _grid_points(grid, compiled, max_points, mechanism.parameter_units)
     fixed_names = [n for n in compiled.param_names if n not in names]
     fixed = dict(zip(fixed_names, values.vector(fixed_names)))
     columns = _columns(names, compiled)
@@ -123,8 +128,10 @@ def sweep(mechanism, scene, params, grid, executor=None, out=None, progress=True
     with SweepFile(out, columns, names, record, fresh=fresh, wait=wait) as table:
         todo = [point for point in points if point not in table.rows]
         if todo:
+            refused = values.refused_points(names, todo)   # checked at once, not per point
             job = _Job(mechanism, scene, values.numbers, tuple(names), compiled.key,
-                       compiled.meta, compiled.source)
+                       compiled.meta, compiled.source,
+                       {todo[index]: error for index, error in refused.items()})
             bar = _bar(progress, len(points), len(table.rows))
             if executor is None and workers is None:
                 _load_kernels(compiled, scene)    # once, before any point or worker
@@ -182,22 +189,24 @@ class Sweep:
 
 
 # ---------------------------------------------------------------------- the grid
-def _grid_points(grid, compiled, max_points):
-    """Swept names (checked against the scene's parameters) and the grid's points,
-    refused before they are built when there are more than ``max_points``."""
+def _grid_points(grid, compiled, max_points, units):
+    """Swept names (checked against the scene's parameters) and the grid's points (values
+    with a unit checked against the parameter's declared one in ``units``), refused
+    before they are built when there are more than ``max_points``."""
     if not grid:
         raise ParameterError("sweep: the grid is empty; give {parameter: [values]}")
     names, axes = [], []
     for key, values in grid.items():
         name = str(key)
         if name not in compiled.param_names:
-            raise ParameterError(f"sweep: {name!r} is not a parameter of this scene "
+            raise ParameterError(f"sweep: {name!r} is not a parameter of this scene"
+                                 f"{did_you_mean(name, compiled.param_names)} "
                                  f"(parameters: {', '.join(compiled.param_names)})")
         if name in names:
             raise ParameterError(f"sweep: {name} is swept twice")
         if isinstance(values, (str, bytes)) or not hasattr(values, "__iter__"):
             raise ParameterError(f"sweep: the values of {name} must be a list of numbers")
-        values = list(dict.fromkeys(to_number(name, v) for v in values))
+        values = list(dict.fromkeys(to_number(name, v, units.get(name)) for v in values))
         if not values or not all(math.isfinite(v) for v in values):
             raise ParameterError(f"sweep: give {name} at least one value, all finite")
         names.append(name)
@@ -258,13 +267,14 @@ def _run_here(job, todo, table, bar, seconds) -> list:
     bar is closed when none are left, or on an interruption)."""
     started, left = time.perf_counter(), []
     try:
-        for done, point in enumerate(todo):
-            if time.perf_counter() - started > seconds:
-                left = todo[done:]
-                break
-            table.add(_row(job, point))
-            if bar is not None:
-                bar.update()
+        with single_threaded_blas():   # set once for the points, not once per point
+            for done, point in enumerate(todo):
+                if time.perf_counter() - started > seconds:
+                    left = todo[done:]
+                    break
+                table.add(_row(job, point))
+                if bar is not None:
+                    bar.update()
     finally:
         if bar is not None and not left:
             bar.close()

@@ -18,10 +18,11 @@ def _scene_inputs(args):
     return model, scene, _params(model, scene, args.param)
 
 
-def _plot(figure_maker, path):
-    """Draw to ``path`` (if one was asked for) and say so."""
+def _plot(figure_maker, path, *before, **options):
+    """Draw to ``path`` (if one was asked for: ``figure_maker.plot(*before, path,
+    **options)``) and say so."""
     if path:
-        figure_maker.plot(path)
+        figure_maker.plot(*before, path, **options)
         print(f"wrote {path}")
 
 

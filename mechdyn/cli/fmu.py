@@ -5,8 +5,6 @@
 """
 from __future__ import annotations
 
-import argparse
-
 __all__ = ["add_fmu_command"]
 
 
@@ -33,20 +31,19 @@ def _fmu(args):
 
 def add_fmu_command(commands):
     from mechdyn.cli.arguments import _model_argument, _param_argument
-    fmu = commands.add_parser(
-        "fmu", help="export a scene as an FMI 2.0 Model Exchange FMU",
-        description="Export one scene of a model file as an FMU (FMI 2.0 Model Exchange): "
-        "states are the coordinates and speeds, parameters the scene's parameters (start "
-        "values from the model and --param), outputs the scene's outputs and the energies; "
-        "the binary is built for this platform with the C compiler ($CC, cc, gcc or clang), "
-        "its C source is included. Scenes with friction, stops or closed loops are refused.",
-        epilog="examples:\n"
-        "  mechdyn fmu models/motor_startup.py --scene startup --out motor.fmu\n"
-        "  mechdyn fmu models/press_cycle.py --scene startup+steady --out steady.fmu\n\n"
-        "--scene A+B exports B starting where A ends (A is simulated first)\n"
-        "--input NAME makes a parameter (or the one-symbol value of a load NAME) an input\n"
-        "exit status 2 if the scene cannot be exported (the message names why)",
-        formatter_class=argparse.RawDescriptionHelpFormatter)
+    from mechdyn.cli.common import command_parser
+    fmu = command_parser(
+        commands, "fmu", "export a scene as an FMI 2.0 Model Exchange FMU",
+        "Export one scene of a model file as an FMU (FMI 2.0 Model Exchange): states are the "
+        "coordinates and speeds, parameters the scene's parameters (start values from the model "
+        "and --param), outputs the scene's outputs and the energies; the binary is built for "
+        "this platform with the C compiler ($CC, cc, gcc or clang), its C source is included. "
+        "Scenes with friction, stops or closed loops are refused.",
+        ["mechdyn fmu models/motor_startup.py --scene startup --out motor.fmu",
+         "mechdyn fmu models/press_cycle.py --scene startup+steady --out steady.fmu"],
+        ["--scene A+B exports B starting where A ends (A is simulated first)",
+         "--input NAME makes a parameter (or the one-symbol value of a load NAME) an input",
+         "exit status 2 if the scene cannot be exported (the message names why)"])
     _model_argument(fmu)
     fmu.add_argument("--scene", required=True, metavar="NAME",
                      help="scene name, or A+B: scene B starting where A ends")

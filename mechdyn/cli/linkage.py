@@ -6,8 +6,6 @@ with closed loops over one crank revolution.
 """
 from __future__ import annotations
 
-import argparse
-
 import numpy as np
 
 __all__ = ["add_linkage_command"]
@@ -71,19 +69,18 @@ def _check_drive(mechanism, drive):
 
 def add_linkage_command(commands):
     from mechdyn.cli.arguments import _model_argument, _param_argument
+    from mechdyn.cli.common import command_parser
     from mechdyn.parse import number
-    linkage = commands.add_parser(
-        "linkage", help="closed loops: transmission functions, I_red, toggles, joint forces",
-        description="Kinematics of a model with closed loops over one crank revolution: "
-        "Grashof's class (four-bars), the crank's range, toggle positions and change "
-        "points, the dependent coordinates' extreme positions (swing, time ratio), the "
-        "range of I_red and of the transmission angle. With --omega also the "
-        "kinetostatics at that crank speed: driving moment, joint forces, shaking force.",
-        epilog="examples:\n"
-        "  mechdyn linkage models/fourbar_flywheel.py --plot fourbar.png\n"
-        "  mechdyn linkage models/fourbar_flywheel.py --omega 30 --drive motor "
-        "--forces forces.png",
-        formatter_class=argparse.RawDescriptionHelpFormatter)
+    linkage = command_parser(
+        commands, "linkage", "closed loops: transmission functions, I_red, toggles, joint forces",
+        "Kinematics of a model with closed loops over one crank revolution: Grashof's class "
+        "(four-bars), the crank's range, toggle positions and change points, the dependent "
+        "coordinates' extreme positions (swing, time ratio), the range of I_red and of the "
+        "transmission angle. With --omega also the kinetostatics at that crank speed: driving "
+        "moment, joint forces, shaking force.",
+        ["mechdyn linkage models/fourbar_flywheel.py --plot fourbar.png",
+         "mechdyn linkage models/fourbar_flywheel.py --omega 30 --drive motor --forces "
+         "forces.png"])
     _model_argument(linkage)
     linkage.add_argument("--scene", metavar="NAME", help="scene whose loads and initial "
                          "guesses (the assembly branch) to use (default: the first)")

@@ -3,11 +3,11 @@
 """
 from __future__ import annotations
 
-import argparse
 import sys
 from mechdyn.errors import MechdynError
-from mechdyn.cli.arguments import (_model_argument, _param_argument, _params, _progress_argument, _sample_argument, _scene_argument, _scene_inputs, _seconds, _units_argument, _whole_number)
-from mechdyn.cli.arguments import EXIT_FAILED, EXIT_OK, EXIT_USAGE
+from mechdyn.cli.arguments import (_model_argument, _param_argument, _params, _plot, _progress_argument, _sample_argument, _scene_argument, _scene_inputs, _seconds, _units_argument, _whole_number)
+from mechdyn.cli.common import command_parser, exit_status
+from mechdyn.cli.arguments import EXIT_OK, EXIT_USAGE
 from mechdyn.cli.scene_commands import _progress
 
 
@@ -88,15 +88,15 @@ def _in_child(function, path, *more) -> tuple:
 
 
 def _add_models_command(commands):
-    models = commands.add_parser(
-        "models", help="list model files with their scenes and descriptions",
-        description="List the model files of a folder: the first line of each file's "
-        "docstring (its first paragraph) and its scenes. Each file is run, as "
-        "`mechdyn simulate` would run it, to find its scenes: in a child process of its "
-        "own, so one that fails or ends the process is listed as broken and the others "
-        "are still listed. Only list folders whose files you would run.",
-        epilog="examples:\n  mechdyn models            (the bundled models, by name)\n"
-        "  mechdyn models ~/my_machines", formatter_class=argparse.RawDescriptionHelpFormatter)
+    models = command_parser(
+        commands, "models", "list model files with their scenes and descriptions",
+        "List the model files of a folder: the first line of each file's docstring (its first "
+        "paragraph) and its scenes. Each file is run, as `mechdyn simulate` would run it, to "
+        "find its scenes: in a child process of its own, so one that fails or ends the process "
+        "is listed as broken and the others are still listed. Only list folders whose files you "
+        "would run.",
+        ["mechdyn models            (the bundled models, by name)",
+         "mechdyn models ~/my_machines"])
     models.add_argument("folder", nargs="?", metavar="DIR",
                         help="folder of model files (default: the models bundled with "
                         "mechdyn, which load_model and every command find by name)")
@@ -182,13 +182,8 @@ def _sweep(args):
         print(f"{cells}  {row['error'] or row['reason']}")
     if args.out:
         print(f"wrote {args.out}")
-    if args.plot:
-        table.plot(y, args.plot)
-        print(f"wrote {args.plot}")
-    if table.failed:
-        print(f"mechdyn: {len(table.failed)} of {len(table)} points failed", file=sys.stderr)
-        return EXIT_FAILED
-    return EXIT_OK
+    _plot(table, args.plot, y)
+    return exit_status(table.failed and f"{len(table.failed)} of {len(table)} points failed")
 
 
 def _dask_client(address):
@@ -204,22 +199,19 @@ def _dask_client(address):
 
 def _add_sweep_command(commands):
     from mechdyn.analyse.sweep_file import MAX_POINTS
-    sweep = commands.add_parser(
-        "sweep", help="simulate a scene over a grid of parameter values",
-        description="Simulate a scene at every point of a parameter grid (all combinations "
-        "of the --grid axes), deriving and compiling once. Rows stream to --out as points "
-        "finish; rerun with the same --out to resume after an interruption.",
-        epilog="examples:\n"
-        "  mechdyn sweep models/shoe_brake.py --scene braking --grid P=10:100:10 "
-        "--plot stop.png\n"
-        "  mechdyn sweep models/hoist_drive.py --scene lift_start --grid E_k=2e6:8e6:4 "
-        "--grid d_r=500,1100 --y peak:rope --out hoist.csv --workers 2\n"
-        "  mechdyn sweep models/shoe_brake.py --scene braking --grid P=10:100:1000 "
-        "--dask tcp://scheduler:8786 --out brake.csv\n\n"
-        "columns: the swept parameters, t_end, reason, final:STATE per coordinate and "
-        "speed, peak:OUTPUT per output, error\n"
-        "exit status 1 if any point failed (its row holds the error; the others are kept)",
-        formatter_class=argparse.RawDescriptionHelpFormatter)
+    sweep = command_parser(
+        commands, "sweep", "simulate a scene over a grid of parameter values",
+        "Simulate a scene at every point of a parameter grid (all combinations of the --grid "
+        "axes), deriving and compiling once. Rows stream to --out as points finish; rerun with "
+        "the same --out to resume after an interruption.",
+        ["mechdyn sweep models/shoe_brake.py --scene braking --grid P=10:100:10 --plot stop.png",
+         "mechdyn sweep models/hoist_drive.py --scene lift_start --grid E_k=2e6:8e6:4 --grid "
+         "d_r=500,1100 --y peak:rope --out hoist.csv --workers 2",
+         "mechdyn sweep models/shoe_brake.py --scene braking --grid P=10:100:1000 --dask "
+         "tcp://scheduler:8786 --out brake.csv"],
+        ["columns: the swept parameters, t_end, reason, final:STATE per coordinate and speed, "
+         "peak:OUTPUT per output, error",
+         "exit status 1 if any point failed (its row holds the error; the others are kept)"])
     _model_argument(sweep)
     _scene_argument(sweep)
     sweep.add_argument("--grid", action="append", required=True,
@@ -258,23 +250,19 @@ def _characteristic(args):
     curves = characteristic(model.mechanism, scene, _params(model, scene, args.param),
                             drive=args.drive)
     print(curves.summary(args.units))
-    if args.plot:
-        curves.plot(args.plot, units=args.units)
-        print(f"wrote {args.plot}")
+    _plot(curves, args.plot, units=args.units)
     return EXIT_OK
 
 
 def _add_characteristic_command(commands):
-    command = commands.add_parser(
-        "characteristic", help="motor and load characteristics, operating points, stability",
-        description="Draw the drive's moment M(omega) against the reduced moment of the "
-        "load (the mean over a cycle where it depends on the position) for a one-DOF "
-        "machine, and list the operating points where they balance: stable where "
-        "dM_motor/domega < dM_load/domega.",
-        epilog="examples:\n"
-        "  mechdyn characteristic models/motor_startup.py --scene startup --plot ml.png\n"
-        "  mechdyn characteristic models/press_flywheel.py --scene steady --units speed=rpm "
-        "--plot press.png", formatter_class=argparse.RawDescriptionHelpFormatter)
+    command = command_parser(
+        commands, "characteristic", "motor and load characteristics, operating points, stability",
+        "Draw the drive's moment M(omega) against the reduced moment of the load (the mean over "
+        "a cycle where it depends on the position) for a one-DOF machine, and list the "
+        "operating points where they balance: stable where dM_motor/domega < dM_load/domega.",
+        ["mechdyn characteristic models/motor_startup.py --scene startup --plot ml.png",
+         "mechdyn characteristic models/press_flywheel.py --scene steady --units speed=rpm "
+         "--plot press.png"])
     _model_argument(command)
     _scene_argument(command, required=False)
     _param_argument(command)
@@ -302,15 +290,14 @@ def _animate(args):
 
 
 def _add_animate_command(commands):
-    command = commands.add_parser(
-        "animate", help="draw the links over the simulated motion into a GIF",
-        description="Simulate a scene and draw its links (their declared points, or the "
-        "centre of mass with a tick along the link's angle) frame by frame into a GIF: "
-        "one frame per --sample seconds of the motion (default 1/fps: real time).",
-        epilog="examples:\n"
-        "  mechdyn animate models/slider_crank.py --scene startup --out crank.gif\n"
-        "  mechdyn animate models/scotch_yoke.py --scene startup --out yoke.gif "
-        "--sample 0.01 --fps 20", formatter_class=argparse.RawDescriptionHelpFormatter)
+    command = command_parser(
+        commands, "animate", "draw the links over the simulated motion into a GIF",
+        "Simulate a scene and draw its links (their declared points, or the centre of mass with "
+        "a tick along the link's angle) frame by frame into a GIF: one frame per --sample "
+        "seconds of the motion (default 1/fps: real time).",
+        ["mechdyn animate models/slider_crank.py --scene startup --out crank.gif",
+         "mechdyn animate models/scotch_yoke.py --scene startup --out yoke.gif --sample 0.01 "
+         "--fps 20"])
     _model_argument(command)
     _scene_argument(command)
     _param_argument(command)

@@ -10,7 +10,7 @@ import sys
 import threading
 from mechdyn.errors import SimulationError
 from mechdyn.cli.arguments import (_model_argument, _param_argument, _params, _plot, _progress_argument, _quantity, _sample_argument, _seconds, _scene_argument, _scene_inputs, _units_argument)
-from mechdyn.cli.arguments import EXIT_FAILED, EXIT_OK
+from mechdyn.cli.common import command_parser, exit_status
 
 
 def _equations(args):
@@ -72,9 +72,7 @@ def _simulate(args):
     if args.csv:
         result.to_csv(args.csv, sample=args.sample, units=args.units)
         print(f"wrote {args.csv}")
-    if args.plot:
-        result.plot(args.plot, sample=args.sample, units=args.units)
-        print(f"wrote {args.plot}")
+    _plot(result, args.plot, sample=args.sample, units=args.units)
     return 0
 
 
@@ -122,16 +120,14 @@ def _progress(args):
 
 
 def _add_equations_command(commands):
-    equations = commands.add_parser(
-        "equations", help="print the derivation (energies, reduced quantities, equations)",
-        description="Print the derivation of a model's equations of motion: energies, "
-        "generalized forces, reduced inertia and moment, Lagrange's equations.",
-        epilog="examples:\n"
-        "  mechdyn equations models/scotch_yoke.py\n"
-        "  mechdyn equations models/motor_startup.py --scene braking --format text\n"
-        "  mechdyn equations models/shoe_brake.py --scene braking --solve\n"
-        "  mechdyn equations models/slider_crank.py --expanded",
-        formatter_class=argparse.RawDescriptionHelpFormatter)
+    equations = command_parser(
+        commands, "equations", "print the derivation (energies, reduced quantities, equations)",
+        "Print the derivation of a model's equations of motion: energies, generalized forces, "
+        "reduced inertia and moment, Lagrange's equations.",
+        ["mechdyn equations models/scotch_yoke.py",
+         "mechdyn equations models/motor_startup.py --scene braking --format text",
+         "mechdyn equations models/shoe_brake.py --scene braking --solve",
+         "mechdyn equations models/slider_crank.py --expanded"])
     _model_argument(equations)
     equations.add_argument("--format", choices=["latex", "text"], default="latex",
                            help="LaTeX (default) or plain text")
@@ -149,22 +145,19 @@ def _add_equations_command(commands):
 
 
 def _add_simulate_command(commands):
-    simulate = commands.add_parser(
-        "simulate", help="simulate a scene and print a summary",
-        description="Simulate one scene of a model file and print how it ended, final "
-        "and peak values, events and the solver's cost.",
-        epilog="examples:\n"
-        "  mechdyn simulate models/shoe_brake.py --scene braking\n"
-        "  mechdyn simulate models/shoe_brake.py --scene braking --param P=30 "
-        "--plot brake.png --csv brake.csv\n"
-        "  mechdyn simulate models/motor_startup.py --scene startup --param 'M_L=0.06 kN*m' "
-        "--units speed=rpm,power=kW --csv run.csv --sample 0.01\n"
-        "  mechdyn simulate models/press_cycle.py --scene startup+steady+braking "
-        "--plot cycle.png\n\n"
-        "--scene A+B+C runs a duty cycle: each phase starts where the one before ended "
-        "(one summary, plot and CSV with a phase column)\n"
-        "exit status 1 if the integration fails (the partial trajectory still goes to --csv)",
-        formatter_class=argparse.RawDescriptionHelpFormatter)
+    simulate = command_parser(
+        commands, "simulate", "simulate a scene and print a summary",
+        "Simulate one scene of a model file and print how it ended, final and peak values, "
+        "events and the solver's cost.",
+        ["mechdyn simulate models/shoe_brake.py --scene braking",
+         "mechdyn simulate models/shoe_brake.py --scene braking --param P=30 --plot brake.png "
+         "--csv brake.csv",
+         "mechdyn simulate models/motor_startup.py --scene startup --param 'M_L=0.06 kN*m' "
+         "--units speed=rpm,power=kW --csv run.csv --sample 0.01",
+         "mechdyn simulate models/press_cycle.py --scene startup+steady+braking --plot cycle.png"],
+        ["--scene A+B+C runs a duty cycle: each phase starts where the one before ended (one "
+         "summary, plot and CSV with a phase column)",
+         "exit status 1 if the integration fails (the partial trajectory still goes to --csv)"])
     _model_argument(simulate)
     simulate.add_argument("--scene", required=True, metavar="NAME",
                           help="scene name, or A+B+C: a duty cycle of scenes run one after "
@@ -213,13 +206,12 @@ def _add_precision_command(commands):
         if not 0 < value < float("inf"):
             raise argparse.ArgumentTypeError(f"{text!r} is not a positive number")
         return value
-    precision = commands.add_parser(
-        "precision", help="work-precision table: error against run time per method",
-        description="Simulate a scene with each method at each tolerance, compare with a "
-        "reference (the closed form where one exists, else DOP853 at rtol 1e-13 checked by "
-        "Radau) and print final-state, L2 and event-time errors, run time and solver cost.",
-        epilog="example:\n  mechdyn precision models/slider_crank.py --scene startup "
-        "--plot wp.png --target 1e-6", formatter_class=argparse.RawDescriptionHelpFormatter)
+    precision = command_parser(
+        commands, "precision", "work-precision table: error against run time per method",
+        "Simulate a scene with each method at each tolerance, compare with a reference (the "
+        "closed form where one exists, else DOP853 at rtol 1e-13 checked by Radau) and print "
+        "final-state, L2 and event-time errors, run time and solver cost.",
+        ["mechdyn precision models/slider_crank.py --scene startup --plot wp.png --target 1e-6"])
     _model_argument(precision)
     _scene_argument(precision)
     _param_argument(precision)
@@ -254,16 +246,15 @@ def _periodic(args):
 
 
 def _add_periodic_command(commands):
-    periodic = commands.add_parser(
-        "periodic", help="steady periodic motion, Floquet multipliers, speed fluctuation",
-        description="Find the periodic motion of a scene: under periodic forcing or "
-        "parametric excitation (period T: --period, else from the sines and cosines of t), "
-        "the periodic state, the swing of every state and the Floquet multipliers; for a "
-        "one-DOF machine free of t, steady running over a cycle of its coordinate with the "
-        "coefficient of speed fluctuation delta.",
-        epilog="examples:\n  mechdyn periodic models/loom_sley.py --scene run --plot loom.png\n"
-        "  mechdyn periodic models/press_flywheel.py --scene steady --param J_f=2",
-        formatter_class=argparse.RawDescriptionHelpFormatter)
+    periodic = command_parser(
+        commands, "periodic", "steady periodic motion, Floquet multipliers, speed fluctuation",
+        "Find the periodic motion of a scene: under periodic forcing or parametric excitation "
+        "(period T: --period, else from the sines and cosines of t), the periodic state, the "
+        "swing of every state and the Floquet multipliers; for a one-DOF machine free of t, "
+        "steady running over a cycle of its coordinate with the coefficient of speed "
+        "fluctuation delta.",
+        ["mechdyn periodic models/loom_sley.py --scene run --plot loom.png",
+         "mechdyn periodic models/press_flywheel.py --scene steady --param J_f=2"])
     _model_argument(periodic)
     _scene_argument(periodic)
     _param_argument(periodic)
@@ -288,24 +279,19 @@ def _report(args):
     out = args.output or f"{Path(args.model).stem}_{args.scene}.html"
     page.write(out)
     print(f"wrote {out}")
-    if page.failure:
-        print(f"mechdyn: simulation failed: {page.failure}", file=sys.stderr)
-        return EXIT_FAILED
-    return EXIT_OK
+    return exit_status(page.failure and f"simulation failed: {page.failure}")
 
 
 def _add_report_command(commands):
-    report = commands.add_parser(
-        "report", help="write one HTML page: derivation, scene, results, plots",
-        description="Write a self-contained HTML page for a scene: the derivation "
-        "(MathML: no network needed), the mechanism and its parameters, the scene, "
-        "the results with events and the default figure; with --precision also the "
-        "work-precision table of the integrators.",
-        epilog="examples:\n"
-        "  mechdyn report models/shoe_brake.py --scene braking -o brake.html\n"
-        "  mechdyn report models/motor_startup.py --scene startup --precision\n\n"
-        "exit status 1 if the simulation fails (the page still shows the derivation and "
-        "the partial result)", formatter_class=argparse.RawDescriptionHelpFormatter)
+    report = command_parser(
+        commands, "report", "write one HTML page: derivation, scene, results, plots",
+        "Write a self-contained HTML page for a scene: the derivation (MathML: no network "
+        "needed), the mechanism and its parameters, the scene, the results with events and the "
+        "default figure; with --precision also the work-precision table of the integrators.",
+        ["mechdyn report models/shoe_brake.py --scene braking -o brake.html",
+         "mechdyn report models/motor_startup.py --scene startup --precision"],
+        ["exit status 1 if the simulation fails (the page still shows the derivation and the "
+         "partial result)"])
     _model_argument(report)
     _scene_argument(report)
     _param_argument(report)

@@ -36,7 +36,9 @@ from mechdyn.version import __version__
 from mechdyn import cache
 from mechdyn.compile.generate import generate
 from mechdyn.compile.generated import CompiledScene, SingularMassError
-from mechdyn.declare.scene import selection
+from mechdyn.declare.element_base import behaviour_key
+from mechdyn.derive.equations import equations
+from mechdyn.derive.selection import select
 
 __all__ = ["CompiledScene", "compile_scene", "SingularMassError"]
 
@@ -53,7 +55,7 @@ def _generator_hash() -> str:
                    "compile/reroll.py", "compile/numba_model.py",
                    "compile/generated.py", "compile/compiler.py", "declare/elements.py",
                    "symbols.py", "compile/loop_code.py", "compile/output_code.py",
-                   "declare/unilateral.py"):
+                   "declare/unilateral.py", "derive/selection.py", "declare/element_base.py"):
         digest.update((package / module).read_bytes())
     return digest.hexdigest()[:16]
 
@@ -74,11 +76,11 @@ def declaration_key(mechanism, scene) -> str:
 
 
 def _declaration_key(mechanism, scene) -> str:
-    names, rigid = selection(mechanism, scene)
+    names, rigid = select(mechanism, scene).key
     parts = [__version__, _GENERATOR, [q.func.__name__ for q in mechanism.coordinates],
              sorted(mechanism.parameter_units.items())]   # units: checked when derived
     for element in mechanism.elements.values():
-        parts.append([type(element).__name__, element.name, list(element.tags),
+        parts.append([behaviour_key(type(element)), element.name, list(element.tags),
                       sorted((k, sp.srepr(v)) for k, v in element.expressions().items())])
     parts += [list(names), [list(r) for r in rigid]]
     if mechanism.constraints:
@@ -104,7 +106,7 @@ def compile_scene(mechanism, scene) -> CompiledScene:
         except Exception:            # authentic but malformed: rebuilt and overwritten
             compiled = None
     if compiled is None:
-        meta, source = generate(mechanism.equations(scene), scene, mechanism.elements)
+        meta, source = generate(equations(mechanism, scene), select(mechanism, scene))
         compiled = CompiledScene(meta, source, key)
         cache.store(f"scene-{key}.json", {"meta": meta, "source": source})
     _memory_cache[key] = compiled

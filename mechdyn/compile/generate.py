@@ -41,23 +41,22 @@ from __future__ import annotations
 import sympy as sp
 from mechdyn.compile.codegen import function_source, safe_symbols
 from mechdyn.compile.table_code import table_constants
-from mechdyn.declare.elements import Constraint
 from mechdyn.compile.output_code import friction_signed, outputs as scene_outputs, slip_signed
-from mechdyn.symbols import t
+from mechdyn.symbols import t, written
 from mechdyn.compile.mass_solve import (UNROLLED_LIMIT, _jac_source, _rhs_source, factor_source,
                                         is_constant, jacobian_pattern)
 
 __all__ = ["generate"]
 
 
-def generate(eqs, scene, elements) -> tuple:
-    """Metadata and generated source for the equations ``eqs`` of ``scene``
-    (``elements``: the mechanism's elements by name, for outputs)."""
+def generate(eqs, selected) -> tuple:
+    """Metadata and generated source for the equations ``eqs`` of a scene's selection
+    ``selected`` (a :class:`~mechdyn.derive.selection.Selection`: its elements, loops,
+    outputs and stop conditions)."""
     n, frictions = eqs.dof, eqs.frictions
     state = set(eqs.q) | set(eqs.u) | {t}
-    outputs = scene_outputs(eqs, scene, elements)
-    stops = [] if scene is None else [
-        (repr(c), eqs.to_plain(c.expression - c.value)) for c in scene.until]
+    outputs = scene_outputs(eqs, selected)
+    stops = [(repr(c), eqs.to_plain(c.expression - c.value)) for c in selected.until]
     signs = safe_symbols("s", len(frictions))
     switches = Switches(set(eqs.q) | set(eqs.u) | {t})
     magnitudes = [switches.lock(slip_signed(fr, sign)) for fr, sign in zip(frictions, signs)]
@@ -124,8 +123,8 @@ def generate(eqs, scene, elements) -> tuple:
         ("contact_gap", (len(contacts),), [r(e) for e in locked["gap"]]),
         ("contact_restitution", (len(contacts),), [r(e) for e in locked["restitution"]]),
         ("gear_law", (len(gears), 4), [r(e) for e in locked["law"]])])
-    domains = domain_conditions(eqs, elements, state) + [
-        (f"output {label!r} = {_written(expr)}", g)
+    domains = domain_conditions(eqs, selected.elements, state) + [
+        (f"output {label!r} = {written(expr)}", g)
         for (label, expr, _), plain in zip(outputs, output_exprs)
         for g in _domain_arguments(plain) if g.free_symbols & state and not g.is_nonnegative]
     event_exprs = [r(e) for _, e in stops] + [r(fr.rate) for fr in frictions] \
@@ -201,8 +200,8 @@ def generate(eqs, scene, elements) -> tuple:
         meta["mass_factor"] = mass_factor        # [offset in p, entries]
     if constraints:
         meta["constraints"] = [c.name for c in constraints]
-        meta["loops"] = [next(name for name, e in elements.items() if isinstance(e, Constraint)
-                              and c.name in e.labels) for c in constraints]
+        meta["loops"] = [next(name for name, labels in selected.loops.items()
+                              if c.name in labels) for c in constraints]
         meta["independent"] = [eqs.q.index(q) for q in eqs.independent]
         meta["multiplier_outputs"] = {label: meta["constraints"].index(label)
                                       for label, _, _ in outputs
@@ -300,14 +299,8 @@ def domain_conditions(eqs, elements, variables) -> list:
             plain = eqs.to_plain(sp.sympify(expr))
             for g in _domain_arguments(plain):
                 if g.free_symbols & variables and not g.is_nonnegative:
-                    found.append((f"{kind} {name!r}: {attribute} = {_written(expr)}", g))
+                    found.append((f"{kind} {name!r}: {attribute} = {written(expr)}", g))
     return found
-
-
-def _written(expr) -> str:
-    """An expression as a user reads it: coordinates and speeds as plain symbols."""
-    from mechdyn.declare.scene import _readable
-    return _readable(sp.sympify(expr))
 
 
 def _domain_arguments(expr) -> list:

@@ -145,7 +145,8 @@ class CompiledScene:
         the stops' ``contact_*``, the lossy gears' ``gear_law``, the loops'
         ``constraint_*``."""
         flat = np.array(self._call("terms", t_value, y, p))
-        out = {name: flat[start:stop].reshape(shape) for name, start, stop, shape in self._slices}
+        out = {name: flat[start:stop] if len(shape) == 1 else flat[start:stop].reshape(shape)
+               for name, start, stop, shape in self._slices}      # a vector: the slice
         mass = np.empty((self.dof, self.dof))
         mass[self._lower] = out["mass"]
         mass[self._upper] = out["mass"]

@@ -58,9 +58,9 @@ class LinkageFunctions:
                                  "linkage has no values for")
         return self._function("evaluated", plain)
 
-    def parameter_vector(self, params):
-        by_name = {str(k): v for k, v in params.items()}
-        missing = [s.name for s in self.params if s.name not in by_name]
-        if missing:
-            raise ParameterError(f"linkage: missing parameter values: {', '.join(missing)}")
-        return [float(by_name[s.name]) for s in self.params]
+    def parameter_vector(self, params) -> list:
+        """``p`` from parameter values (a checked
+        :class:`~mechdyn.declare.parameters.ParameterSet`, or a dict by symbol or name)."""
+        from mechdyn.declare.parameters import ParameterSet
+        values = params if isinstance(params, ParameterSet) else ParameterSet(params)
+        return values.vector([s.name for s in self.params], "the linkage analysis")

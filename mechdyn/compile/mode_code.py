@@ -32,7 +32,7 @@ KIND_CODES = {"friction": 0.0, "one_way": 1.0, "contact": 2.0, "gear": 3.0}
 
 _TEMPLATE = '''
 from mechdyn.compile.mode_numerics import (constrained, frozen_speeds, group_margins,
-                                           rank_margin)
+                                           least_change, rank_margin)
 import numpy as _np
 
 _LAY = _np.array({layout}, dtype=_np.int64)
@@ -67,6 +67,27 @@ def mode_events(t, y, p, out):
     at = group_margins(buf, _LAY, p, x, ok, out)
 {loop_events}'''
 
+_LOOP_PROJECT = '''
+
+@njit(_RHS, cache=True, error_model="numpy")
+def loop_project(t, y, p, out):
+    parts = _np.empty({m} * ({n} + 3))
+    for i in range({n2}):
+        out[i] = y[i]
+    for _ in range(3):
+        closure(t, out, p, parts)
+        step = least_change(parts[{m}:{mn}].copy().reshape(({m}, {n})),
+                            parts[:{m}].copy())
+        for i in range({n}):
+            out[i] -= step[i]
+    closure(t, out, p, parts)
+    grads = parts[{m}:{mn}].copy().reshape(({m}, {n}))
+    rate = grads @ out[{n}:].copy() + parts[{mn}:{mn} + {m}]
+    step = least_change(grads, rate)
+    for i in range({n}):
+        out[{n} + i] -= step[i]
+'''
+
 _PLAIN_CALL = """    if p[_NP] == 0.0:
         rhs(t, y, p, out)
         return
@@ -95,7 +116,9 @@ def mode_source(meta, n_params, plain=False, minors=0) -> str:
     matrix's factor). With closed
     loops ``mode_events`` ends with the watched minor of the loops, the room left to
     the drifts of their positions and speeds and to the rank margin of their gradients
-    (:class:`mechdyn.simulate.loop_watch.LoopWatch`)."""
+    (:class:`mechdyn.simulate.loop_watch.LoopWatch`), and the module has
+    ``loop_project(t, y, p, out)``: the state put back onto the loops, as
+    :func:`mechdyn.simulate.assembly.project` (with the scene's ``closure``)."""
     from mechdyn.compile.mode_numerics import LAYOUT_NAMES
     offsets = {name: offset for name, offset, _ in meta["terms"]}
     gaps = [i for i, (kind, _) in enumerate(meta["events"]) if kind == "gap"]
@@ -112,7 +135,8 @@ def mode_source(meta, n_params, plain=False, minors=0) -> str:
         layout=layout, n=n, n_params=n_params, n_events=values["events"],
         n_terms=values["terms"], size=n + loops + len(gears),
         plain_call=_PLAIN_CALL if plain and not gears else "",
-        loop_events=_LOOP_EVENTS.format(minors=minors) if loops else "")
+        loop_events=_LOOP_EVENTS.format(minors=minors) if loops else "") + (
+        _LOOP_PROJECT.format(m=loops, n=n, n2=2 * n, mn=loops + loops * n) if loops else "")
 
 
 def mode_vector(mode, kinds, frozen, contacts, gap_offsets=None, loops=()) -> list:

@@ -24,7 +24,8 @@ from numba import njit
 
 from mechdyn.kernels.linalg import lu_factor, lu_solve
 
-__all__ = ["LAYOUT_NAMES", "constrained", "group_margins", "frozen_speeds", "rank_margin"]
+__all__ = ["LAYOUT_NAMES", "constrained", "group_margins", "frozen_speeds", "rank_margin",
+           "least_change"]
 
 #: the entries of a scene's ``layout`` vector, then its gaps' event indices, then
 #: (friction element, loop constraint) of each lossy gear
@@ -251,3 +252,18 @@ def rank_margin(buf, lay):
         return np.nan
     values = np.linalg.svd(part)[1]
     return values[loops - 1] if values.shape[0] >= loops else 0.0
+
+
+@njit(cache=True, error_model="numpy")
+def least_change(grads, residual):
+    """The smallest ``x`` with ``grads x = residual`` (``grads`` m x n of full row rank:
+    ``x = G' (G G')^-1 r``, LU with partial pivoting); least squares (LAPACK) where
+    ``G G'`` is singular. The projections onto closed loops take it."""
+    m, n = grads.shape
+    normal = grads @ grads.T
+    piv = np.zeros(m, np.int64)
+    y = residual.copy()
+    if not lu_factor(normal, piv):
+        return np.linalg.lstsq(grads, residual)[0]
+    lu_solve(normal, piv, y)
+    return grads.T @ y

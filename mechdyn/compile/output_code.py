@@ -9,17 +9,17 @@ gear's mesh and loss moments, ``NAME.mode``) are generated as 0 and filled in by
 :mod:`mechdyn.simulate.mode_outputs`.
 
 >>> import mechdyn as md
+>>> from mechdyn.derive.selection import select
 >>> model = md.load_model("models/shoe_brake.py")
 >>> scene = md.Scene("b", initial={}, t_end=1, outputs=["shoe", "shoe.slip"])
 >>> eqs = model.mechanism.equations(scene)
->>> [(label, str(expr)) for label, expr, _ in outputs(eqs, scene, model.mechanism.elements)]
+>>> [(label, str(expr)) for label, expr, _ in outputs(eqs, select(model.mechanism, scene))]
 [('shoe', '-2*P*R*f*sign(phidot)'), ('shoe.slip', 'phidot')]
 """
 from __future__ import annotations
 
 import sympy as sp
 
-from mechdyn.declare.elements import Constraint
 from mechdyn.derive.equations import element_output
 from mechdyn.errors import SceneError
 
@@ -44,13 +44,12 @@ def friction_signed(expr, eqs, signs):
     return sp.sympify(expr).xreplace(replace)
 
 
-def outputs(eqs, scene, elements) -> list:
-    """``(label, plain expression, item)`` for each requested output (``item``: what
-    the scene asked for, an element name or ``power:NAME``; an expression as text)."""
-    if scene is None:
-        return []
-    result = []
-    for label, item in scene.labelled_outputs():
+def outputs(eqs, selected) -> list:
+    """``(label, plain expression, item)`` for each output a scene's selection
+    ``selected`` (:class:`~mechdyn.derive.selection.Selection`) asks for (``item``: an
+    element name or ``power:NAME``; an expression as text)."""
+    result, scene_name = [], selected.scene_name
+    for label, item in selected.outputs:
         if isinstance(item, str):
             if item.startswith("power:"):
                 name = item[len("power:"):]
@@ -58,21 +57,22 @@ def outputs(eqs, scene, elements) -> list:
                     result.append((label, sp.S.Zero, item))     # the gear's loss: run time
                     continue
                 if name not in eqs.powers:
-                    raise SceneError(f"scene {scene.name!r}: output {item!r}: no load "
+                    raise SceneError(f"scene {scene_name!r}: output {item!r}: no load "
                                      f"{name!r} in the scene (loads: {sorted(eqs.powers)})")
                 result.append((label, eqs.powers[name], item))
                 continue
-            if isinstance(elements.get(item), Constraint):   # its multipliers (simulate)
-                result += [(component, sp.S.Zero, item) for component in elements[item].labels]
+            if item in selected.loops:                   # its multipliers (simulate)
+                result += [(component, sp.S.Zero, item) for component in selected.loops[item]]
                 continue
             if "." in item and item.rsplit(".", 1)[1] in _SUFFIXES:
-                result.append((label, _coupling_output(eqs, scene, item), item))
+                result.append((label, _coupling_output(eqs, scene_name, item), item))
                 continue
-            result.append((label, element_output(eqs, scene.name, item, elements), item))
+            result.append((label, element_output(eqs, scene_name, item, selected.elements),
+                           item))
         elif isinstance(item, sp.Basic):
             result.append((label, eqs.to_plain(sp.sympify(item)), label))
         else:
-            raise SceneError(f"scene {scene.name!r}: output {item!r} is neither an element "
+            raise SceneError(f"scene {scene_name!r}: output {item!r} is neither an element "
                              "name, 'power:NAME', nor a sympy expression")
     return result
 
@@ -80,7 +80,7 @@ def outputs(eqs, scene, elements) -> list:
 _SUFFIXES = ("slip", "mode", "loss")
 
 
-def _coupling_output(eqs, scene, item):
+def _coupling_output(eqs, scene_name, item):
     """``NAME.slip`` (the sliding speed of a friction, one-way clutch or lossy gear),
     ``NAME.mode`` (+1/-1 sliding, 0 stuck, 2 free; a stop: 0 open, +1/-1 resting on its
     lower/upper limit) and ``NAME.loss`` (a lossy gear's loss moment); the last two are
@@ -93,7 +93,7 @@ def _coupling_output(eqs, scene, item):
     if (suffix == "mode" and (friction is not None or stop)) or \
             (suffix == "loss" and friction is not None and friction.kind == "gear"):
         return sp.S.Zero
-    raise SceneError(f"scene {scene.name!r}: output {item!r}: no friction, one-way clutch,"
+    raise SceneError(f"scene {scene_name!r}: output {item!r}: no friction, one-way clutch,"
                      f" stop or lossy gear {name!r} in the scene with a {suffix!r} output")
 
 

@@ -32,20 +32,16 @@ from fractions import Fraction
 import sympy as sp
 from sympy.core.function import AppliedUndef
 
-from mechdyn.declare.elements import Damper, Friction, Gravity, Link, Load, Spring
-from mechdyn.errors import DeclarationError, SceneError
+from mechdyn.errors import DeclarationError
 from mechdyn.symbols import dotted_symbol, t
 from mechdyn.units import DIMENSIONLESS, Dimension, dimension
-from mechdyn.declare.unilateral import Stop
 
-__all__ = ["check_elements", "check_equations", "check_scene", "dimension_of",
+__all__ = ["check_elements", "check_equations", "dimension_of", "UnitCheck",
            "Misfit", "MissingUnit"]
 
 ANY = None                     # a decimal's unknown dimension: fits anything
 TIME = Dimension({"[time]": 1})
 ENERGY = Dimension({"[mass]": 1, "[length]": 2, "[time]": -2})
-_NEEDS = {Link: {"m": "kg", "J": "kg*m^2", "x": "m", "y": "m", "angle": "1"},
-          Gravity: {"g": "m/s^2"}, Load: {"efficiency": "1"}}
 _PLAIN_FUNCTIONS = (sp.sin, sp.cos, sp.tan, sp.cot, sp.sec, sp.csc, sp.asin, sp.acos,
                     sp.atan, sp.acot, sp.sinh, sp.cosh, sp.tanh, sp.asinh, sp.acosh,
                     sp.atanh, sp.exp, sp.log)
@@ -241,50 +237,56 @@ def _missing_units(mechanism, known):
 
 
 def _check_element(element, known, mechanism):
-    kind = type(element).__name__.lower()
-    label = f"{kind} {element.name!r}"
-    dims = {attribute: _dims(expr, known, f"{label}: {attribute} = {_plain(expr)}")
-            for attribute, expr in element.expressions().items()}
-    for attribute, unit in _NEEDS.get(type(element), {}).items():
-        need = dimension(unit)
-        if attribute in dims and dims[attribute] is not ANY and dims[attribute] != need:
-            raise DeclarationError(f"{label}: {attribute} = {_plain(getattr(element, attribute))}"
-                                   f" has dimension {_short(dims[attribute])} but "
-                                   f"{_needs_word(attribute)} needs {_short(need)}")
+    check = UnitCheck(element, known, mechanism)
+    element.check_units(check)
     for index, point in enumerate(getattr(element, "points", ())):
         for axis, expr in zip("xy", point):
-            dim = _dims(expr, known, f"{label}: point {index} {axis}")
+            dim = _dims(expr, known, f"{check.label}: point {index} {axis}")
             if dim is not ANY and dim != dimension("m"):
-                raise DeclarationError(f"{label}: point {index} {axis} = {_plain(expr)} has "
-                                       f"dimension {_short(dim)} but a position needs m")
-    if isinstance(element, (Load, Friction)):
-        size = "value" if isinstance(element, Load) else "moment"
-        _check_work(label, f"{size} * d(along)/d{{q}}", dims[size], dims["along"],
-                    element.along, known, mechanism)
-        if "release" in dims:
-            _check_work(label, "release * d(along)/d{q}", dims["release"], dims["along"],
-                        element.along, known, mechanism)
-    elif isinstance(element, Stop):
-        for limit in ("lower", "upper"):
-            if limit in dims and ANY not in (dims[limit], dims["along"]) and \
-                    dims[limit] != dims["along"]:
-                raise DeclarationError(f"{label}: {limit} = {_plain(getattr(element, limit))}"
-                                       f" has dimension {_short(dims[limit])} but along "
-                                       f"has {_short(dims['along'])}")
-    elif isinstance(element, Spring):
-        k, s = dims["k"], dims["stretch"]
-        _check_work(label, "k * stretch * d(stretch)/d{q}", None if k is ANY or s is ANY
-                    else k * s, s, element.stretch, known, mechanism)
-    elif isinstance(element, Damper):
-        c, s = dims["c"], dims["stretch"]
-        _check_work(label, "c * d(stretch)/dt * d(stretch)/d{q}", None if c is ANY or
-                    s is ANY else c * s / TIME, s, element.stretch, known, mechanism)
+                raise DeclarationError(f"{check.label}: point {index} {axis} = {_plain(expr)} "
+                                       f"has dimension {_short(dim)} but a position needs m")
 
 
-def _needs_word(attribute):
-    return {"m": "a mass", "J": "a moment of inertia", "x": "a position",
-            "y": "a position", "angle": "an angle", "g": "gravity",
-            "efficiency": "an efficiency"}[attribute]
+class UnitCheck:
+    """What an element's ``check_units`` checks its attributes with (by attribute
+    name): a unit one needs (:meth:`need`), the work of a force along a displacement
+    against the equation it enters (:meth:`work`), two of one dimension (:meth:`same`).
+    An attribute given as a bare or decimal number fits anything."""
+
+    def __init__(self, element, known, mechanism):
+        self.element, self.known, self.mechanism = element, known, mechanism
+        self.label = f"{type(element).__name__.lower()} {element.name!r}"
+        self.dims = {attribute: _dims(expr, known, f"{self.label}: {attribute} = "
+                                                   f"{_plain(expr)}")
+                     for attribute, expr in element.expressions().items()}
+
+    def need(self, attribute, unit, word):
+        """``attribute`` (when given) has the dimension of ``unit``; ``word`` names
+        what needs it (``"a mass"``)."""
+        have, need = self.dims.get(attribute, ANY), dimension(unit)
+        if have is not ANY and have != need:
+            raise DeclarationError(f"{self.label}: {attribute} = "
+                                   f"{_plain(getattr(self.element, attribute))} has dimension "
+                                   f"{_short(have)} but {word} needs {_short(need)}")
+
+    def work(self, formula, along, *factors, per_time=0):
+        """The force ``product of factors / time^per_time`` times ``d(along)/dq`` is
+        energy per unit of ``q`` (``formula`` shows it, ``{q}`` the coordinate); an
+        attribute not given fits anything."""
+        dims = [self.dims.get(factor, ANY) for factor in factors]
+        if ANY in dims or self.dims.get(along, ANY) is ANY:
+            return
+        size = _product(dims) / TIME ** per_time if per_time else _product(dims)
+        _check_work(self.label, formula, size, self.dims[along],
+                    getattr(self.element, along), self.known, self.mechanism)
+
+    def same(self, attribute, other):
+        """``attribute`` (when given) has the dimension of ``other``."""
+        have, need = self.dims.get(attribute, ANY), self.dims.get(other, ANY)
+        if ANY not in (have, need) and have != need:
+            raise DeclarationError(f"{self.label}: {attribute} = "
+                                   f"{_plain(getattr(self.element, attribute))} has dimension "
+                                   f"{_short(have)} but {other} has {_short(need)}")
 
 
 def _check_work(label, formula, size, along, along_expr, known, mechanism):
@@ -327,31 +329,3 @@ def check_equations(eqs, mechanism):
             if dim is not ANY and dim != need:
                 raise DeclarationError(f"equation of {qi}: {what} has dimension "
                                        f"{_named(dim)} but the equation needs {_named(need)}")
-
-
-def check_scene(mechanism, scene):
-    """Stop conditions compare like with like; initial values fit their states (also
-    those typed with units, :func:`mechdyn.declare.scene_units.check_given`)."""
-    from mechdyn.declare.scene_units import check_given
-    check_given(mechanism, scene)
-    known = _by_name(known_dimensions(mechanism))
-    for condition in scene.until:
-        try:
-            _same(condition, [_plain(condition.expression), _plain(condition.value)],
-                  known, {})
-        except Misfit as misfit:
-            raise SceneError(f"scene {scene.name!r}: stop condition {condition!r} "
-                             f"{misfit}") from None
-        except MissingUnit as missing:
-            raise SceneError(f"scene {scene.name!r}: stop condition {condition!r} uses "
-                             f"{missing}, which has no unit") from None
-    for key, value in scene.initial.items():
-        if isinstance(value, sp.Basic):
-            try:
-                _same(key, [_plain(key), _plain(value)], known, {})
-            except Misfit as misfit:
-                raise SceneError(f"scene {scene.name!r}: initial value of {_plain(key)} = "
-                                 f"{_plain(value)}: {misfit}") from None
-            except MissingUnit as missing:
-                raise SceneError(f"scene {scene.name!r}: initial value of {_plain(key)} "
-                                 f"uses {missing}, which has no unit") from None

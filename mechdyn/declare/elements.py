@@ -2,7 +2,9 @@
 
 Every element has a unique ``name`` and optional ``tags``; scenes select loads by either.
 Values are sympy expressions (or numbers) of the coordinates, their speeds, the time
-``md.t`` and parameters (any other symbols).
+``md.t`` and parameters (any other symbols). Each element carries its own behaviour —
+its work (energy, dissipation, forces), units check and output — as the methods of
+:class:`~mechdyn.declare.element_base.Element` that every stage asks.
 
 >>> import sympy as sp, mechdyn as md
 >>> phi = md.coordinate("phi")
@@ -14,78 +16,13 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import sympy as sp
-from sympy.core.sympify import SympifyError, _sympify
 
+from mechdyn.declare.element_base import FRAME, Element, Sliding, Work, as_expression
 from mechdyn.errors import DeclarationError
 from mechdyn.symbols import t
 
 __all__ = ["Element", "Link", "Load", "Spring", "Damper", "Gravity", "Friction",
            "Constraint", "Joint", "FRAME", "is_structural", "as_expression"]
-
-FRAME = "frame"     # the name joints use for the fixed frame (ground)
-
-
-def as_expression(value, what: str) -> sp.Expr:
-    """Convert a number or sympy expression; strings are refused (no eval of text)."""
-    if isinstance(value, str):
-        raise DeclarationError(
-            f"{what}: got the string {value!r}; pass a sympy expression or a number "
-            "(build it with sp.symbols / md.coordinate), strings are never evaluated")
-    try:
-        expr = _sympify(value)
-    except SympifyError:
-        raise DeclarationError(f"{what}: {value!r} is not a number or sympy expression") from None
-    if not isinstance(expr, sp.Expr):
-        raise DeclarationError(f"{what}: {value!r} is not a scalar expression")
-    if expr.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
-        raise DeclarationError(f"{what}: {value!r} is not finite")
-    if expr.has(sp.I) or any(a.is_real is False for a in expr.atoms(sp.Number)):
-        raise DeclarationError(f"{what}: {value!r} is complex; mechanisms are declared "
-                               "with real numbers and expressions")
-    return expr
-
-
-def _nonnegative(expr: sp.Expr, what: str) -> sp.Expr:
-    """Refuse values that are negative by their numbers or their symbols' assumptions
-    (``-m`` with ``m`` declared positive)."""
-    if expr.is_negative:
-        raise DeclarationError(f"{what} must not be negative, got {expr}")
-    return expr
-
-
-def _tags(tags) -> tuple:
-    if isinstance(tags, str):
-        return (tags,)
-    return tuple(tags)
-
-
-@dataclass(frozen=True)
-class Element:
-    """Base of all elements: a name and tags."""
-    name: str
-    tags: tuple = field(default=(), kw_only=True)
-
-    def __post_init__(self):
-        if not isinstance(self.name, str) or not self.name:
-            raise DeclarationError(f"element name must be a non-empty string, got {self.name!r}")
-        object.__setattr__(self, "tags", _tags(self.tags))
-
-    def _expr(self, attribute: str, nonnegative=False):
-        what = f"{type(self).__name__.lower()} {self.name!r}: {attribute}"
-        expr = as_expression(getattr(self, attribute), what)
-        if nonnegative:
-            _nonnegative(expr, what)
-        object.__setattr__(self, attribute, expr)
-
-    def output(self, eqs):
-        """The force or moment this element records as a scene output, written in the
-        plain symbols of the derived equations ``eqs``; None: it has no single one."""
-        return None
-
-    def expressions(self) -> dict:
-        """The element's expressions by attribute name."""
-        return {}
-
 
 @dataclass(frozen=True)
 class Link(Element):
@@ -101,12 +38,16 @@ class Link(Element):
     angle: object = 0
     points: tuple = field(default=(), repr=False)
 
+    DEPENDS = {"m": "", "J": "", "x": "qt", "y": "qt", "angle": "qt"}
+    RULES = dict.fromkeys(("m", "J"), ("nonnegative", "masses and inertias must not be "
+                                       "negative"))
+
     def __post_init__(self):
         super().__post_init__()
-        self._expr("m", nonnegative=True)
-        self._expr("J", nonnegative=True)
+        self.convert("m", nonnegative=True)
+        self.convert("J", nonnegative=True)
         for attribute in ("x", "y", "angle"):
-            self._expr(attribute)
+            self.convert(attribute)
         points = []
         for index, point in enumerate(self.points):
             if not (isinstance(point, (tuple, list)) and len(point) == 2):
@@ -118,6 +59,12 @@ class Link(Element):
 
     def expressions(self):
         return {"m": self.m, "J": self.J, "x": self.x, "y": self.y, "angle": self.angle}
+
+    def check_units(self, units):
+        for attribute, unit, word in (("m", "kg", "a mass"), ("J", "kg*m^2", "a moment of "
+                                      "inertia"), ("x", "m", "a position"),
+                                      ("y", "m", "a position"), ("angle", "1", "an angle")):
+            units.need(attribute, unit, word)
 
 
 @dataclass(frozen=True)
@@ -135,6 +82,10 @@ class Load(Element):
     efficiency: object = None
     on: tuple = ()
 
+    DEPENDS = {"value": "qvt", "along": "qt", "efficiency": ""}
+    MOVING = ("along",)
+    RULES = {"efficiency": ("efficiency", "an efficiency must lie in (0, 1]")}
+
     def __post_init__(self):
         super().__post_init__()
         if self.along is None:
@@ -144,12 +95,12 @@ class Load(Element):
         if not all(isinstance(n, str) for n in on):
             raise DeclarationError(f"load {self.name!r}: on= takes link names, got {self.on!r}")
         object.__setattr__(self, "on", on)
-        self._expr("along")
+        self.convert("along")
         if callable(self.value) and not isinstance(self.value, sp.Basic):
             object.__setattr__(self, "value", self._characteristic(self.value))
-        self._expr("value")
+        self.convert("value")
         if self.efficiency is not None:
-            self._expr("efficiency")
+            self.convert("efficiency")
             eta = self.efficiency
             if sp.Le(eta, 0) == sp.true or sp.Gt(eta, 1) == sp.true:
                 raise DeclarationError(
@@ -164,6 +115,19 @@ class Load(Element):
                 "expression, or a motor characteristic from md.motors (kloss, dc_shunt, "
                 "table), which the load calls with the speed of its along")
         return value(sp.diff(self.along, t))
+
+    def work(self, motion):
+        along = motion.position(self.along, self.name)
+        value = motion.law(self.value, along, self.name)
+        if self.efficiency is not None:     # 1/eta while it draws power, eta feeding back
+            eta = motion.plain(self.efficiency)
+            value = value * sp.Piecewise((eta, value * motion.rate(along) > 0),
+                                         (1 / eta, True))
+        return Work(forces=((value, along),))
+
+    def check_units(self, units):
+        units.need("efficiency", "1", "an efficiency")
+        units.work("value * d(along)/d{q}", "along", "value")
 
     def output(self, eqs):
         return eqs.to_plain(self.value)
@@ -183,10 +147,23 @@ class Spring(Element):
     k: object = 0
     stretch: object = 0
 
+    MOVING = ("stretch",)
+    RULES = {"k": ("nonnegative", "a stiffness must not be negative")}
+
     def __post_init__(self):
         super().__post_init__()
-        self._expr("k", nonnegative=True)
-        self._expr("stretch")
+        self.convert("k", nonnegative=True)
+        self.convert("stretch")
+
+    def work(self, motion):
+        stretch, k = motion.position(self.stretch, self.name), motion.plain(self.k)
+        return Work(potential=k * stretch ** 2 / 2, forces=((-k * stretch, stretch),))
+
+    def check_units(self, units):
+        units.work("k * stretch * d(stretch)/d{q}", "stretch", "k", "stretch")
+
+    def output_along(self):
+        return self.stretch
 
     def output(self, eqs):
         return eqs.to_plain(self.k * self.stretch)
@@ -202,10 +179,25 @@ class Damper(Element):
     c: object = 0
     stretch: object = 0
 
+    MOVING = ("stretch",)
+    RULES = {"c": ("nonnegative", "a damping coefficient must not be negative")}
+
     def __post_init__(self):
         super().__post_init__()
-        self._expr("c", nonnegative=True)
-        self._expr("stretch")
+        self.convert("c", nonnegative=True)
+        self.convert("stretch")
+
+    def work(self, motion):
+        stretch, c = motion.position(self.stretch, self.name), motion.plain(self.c)
+        rate = motion.rate(stretch)
+        return Work(dissipation=c * rate ** 2 / 2, forces=((-c * rate, stretch),))
+
+    def check_units(self, units):
+        units.work("c * d(stretch)/dt * d(stretch)/d{q}", "stretch", "c", "stretch",
+                   per_time=1)
+
+    def output_along(self):
+        return self.stretch
 
     def output(self, eqs):
         stretch = eqs.to_plain(self.stretch)
@@ -222,9 +214,21 @@ class Gravity(Element):
     """Uniform gravity ``g`` along -y: potential ``m g y`` of every link."""
     g: object = 9.81
 
+    DEPENDS = {"g": ""}
+
     def __post_init__(self):
         super().__post_init__()
-        self._expr("g")
+        self.convert("g")
+
+    def work(self, motion):
+        g, potential, forces = motion.plain(self.g), sp.S.Zero, []
+        for _, m, y in motion.heights():
+            potential += m * g * y
+            forces.append((-m * g, y))
+        return Work(potential=potential, forces=tuple(forces))
+
+    def check_units(self, units):
+        units.need("g", "m/s^2", "gravity")
 
     def expressions(self):
         return {"g": self.g}
@@ -240,18 +244,33 @@ class Friction(Element):
     along: object = None
     peak: object = 1
 
+    DEPENDS = {"moment": "qvt", "along": "qt", "peak": ""}
+    MOVING = ("along",)
+    RULES = {"moment": ("nonnegative", "a friction magnitude must not be negative"),
+             "peak": ("peak", "static friction is never below sliding friction")}
+    KIND = "friction"               # sliding: opposes the motion both ways
+
     def __post_init__(self):
         super().__post_init__()
         if self.along is None:
             raise DeclarationError(f"{type(self).__name__.lower()} {self.name!r}: 'along' "
                                    "is required")
-        self._expr("moment", nonnegative=True)
-        self._expr("along")
-        self._expr("peak")
+        self.convert("moment", nonnegative=True)
+        self.convert("along")
+        self.convert("peak")
         if self.peak.is_number and not self.peak >= 1:
             raise DeclarationError(f"{type(self).__name__.lower()} {self.name!r}: peak = "
                                    f"{float(self.peak):g} must be at least 1 (static "
                                    "friction is never below sliding friction)")
+
+    def work(self, motion):
+        along = motion.position(self.along, self.name)
+        law = motion.law(self.moment, along, self.name)
+        return Work(forces=((-law * sp.sign(motion.rate(along)), along),),
+                    sliding=Sliding(self.KIND, law, along, motion.plain(self.peak)))
+
+    def check_units(self, units):
+        units.work("moment * d(along)/d{q}", "along", "moment")
 
     def output(self, eqs):
         fr = next(f for f in eqs.frictions if f.name == self.name)
@@ -352,7 +371,7 @@ class Joint(Element):
             raise DeclarationError(f"{what}: a prismatic joint needs direction= (the angle "
                                    "of its slide), other joints take none")
         if self.direction is not None:
-            self._expr("direction")
+            self.convert("direction")
 
     def expressions(self):
         out = {"x": self.at[0], "y": self.at[1]}

@@ -21,31 +21,13 @@ from sympy.core.function import AppliedUndef
 
 from mechdyn.declare.couplings import Couplings
 from mechdyn.declare.names import check_coordinates, check_parameters
-from mechdyn.declare.elements import (FRAME, Constraint, Damper, Element, Friction, Gravity, Joint, Link,
-                       Load, Spring)
+from mechdyn.declare.elements import (FRAME, Constraint, Damper, Element, Friction, Gravity, Joint,
+                                      Link, Load, Spring)
 from mechdyn.errors import DeclarationError
 from mechdyn.symbols import is_coordinate, t
-from mechdyn.declare.unilateral import LossyGear, OneWayClutch, Stop
 
 __all__ = ["Mechanism"]
 
-# What each attribute of an element may depend on: coordinates, speeds, time.
-_ALLOWED = {
-    (Link, "m"): "", (Link, "J"): "",
-    (Link, "x"): "qt", (Link, "y"): "qt", (Link, "angle"): "qt",
-    (Load, "value"): "qvt", (Load, "along"): "qt", (Load, "efficiency"): "",
-    (Spring, "k"): "qt", (Spring, "stretch"): "qt",
-    (Damper, "c"): "qt", (Damper, "stretch"): "qt",
-    (Gravity, "g"): "",
-    (Friction, "moment"): "qvt", (Friction, "along"): "qt", (Friction, "peak"): "",
-    (OneWayClutch, "release"): "",
-    (Stop, "along"): "qt", (Stop, "lower"): "", (Stop, "upper"): "", (Stop, "restitution"): "",
-    (LossyGear, "eta_forward"): "qvt", (LossyGear, "eta_backward"): "qvt",
-    (LossyGear, "bearing_forward"): "qvt", (LossyGear, "bearing_backward"): "qvt",
-    (Joint, "x"): "qt", (Joint, "y"): "qt", (Joint, "direction"): "qt",
-}
-_MUST_MOVE = {(Load, "along"), (Spring, "stretch"), (Damper, "stretch"), (Friction, "along"),
-              (Stop, "along")}
 _WORDS = {"q": "the coordinates", "v": "speeds", "t": "the time t"}
 
 
@@ -283,7 +265,7 @@ class Mechanism(Couplings):
                     f"{what}: does not involve the coordinates {_names(self.coordinates)}; "
                     "a constraint must tie coordinates together")
         else:
-            allowed = _rule(_ALLOWED, element, attribute, "qt")       # points: like x, y
+            allowed = element.DEPENDS.get(attribute, "qt")          # points: like x, y
         coords = set(self.coordinates)
         for d in expr.atoms(sp.Derivative):
             if d not in self._speeds:
@@ -303,7 +285,7 @@ class Mechanism(Couplings):
             raise DeclarationError(f"{what}: must be constant, not depend on the coordinates")
         if "t" not in allowed and t in expr.free_symbols:
             raise DeclarationError(f"{what}: must not depend on the time t")
-        if _rule(_MUST_MOVE, element, attribute) and not (expr.atoms(AppliedUndef) & coords):
+        if attribute in element.MOVING and not (expr.atoms(AppliedUndef) & coords):
             raise DeclarationError(
                 f"{what}: does not depend on the coordinates {_names(self.coordinates)}, "
                 "so it never moves and does no work")
@@ -319,14 +301,6 @@ class Mechanism(Couplings):
     def __getstate__(self):
         """Pickled (e.g. for sweep workers) without the caches of derived equations."""
         return {**self.__dict__, "_derived": {}, "_memo": {}}
-
-
-def _rule(table, element, attribute, default=None):
-    """The entry of ``table`` for the element's class or its nearest base class."""
-    for cls in type(element).__mro__:
-        if (cls, attribute) in table:
-            return table[(cls, attribute)] if isinstance(table, dict) else True
-    return default
 
 
 def _what(element, attribute) -> str:

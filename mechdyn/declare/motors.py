@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
-from mechdyn.declare.elements import as_expression
+from mechdyn.declare.element_base import as_expression
 from mechdyn.errors import DeclarationError
 
 __all__ = ["Characteristic", "kloss", "dc_shunt", "table"]

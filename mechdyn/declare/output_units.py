@@ -1,6 +1,7 @@
-"""The SI unit of each output of a scene, from the declared parameter units: a load's
-or friction's moment or force (energy per unit of its ``along``), a spring's or damper's
-force, a slip speed, a mesh loss, power in W, an expression's own dimension.
+"""The SI unit of each output of a scene, from the declared parameter units: an
+element's force or moment (energy per unit of what it acts along,
+``Element.output_along``: a load's ``along``, a spring's ``stretch``), a slip speed, a
+mesh loss, power in W, an expression's own dimension.
 
 >>> import sympy as sp, mechdyn as md
 >>> phi = md.coordinate("phi")
@@ -15,8 +16,6 @@ import sympy as sp
 
 from mechdyn.declare.dimensions import (ENERGY, TIME, Misfit, MissingUnit, _plain, dimension_of,
                                         known_dimensions)
-from mechdyn.declare.elements import Damper, Friction, Load, Spring
-from mechdyn.declare.unilateral import LossyGear, Stop
 
 
 def output_units(mechanism, scene) -> dict:
@@ -37,18 +36,13 @@ def output_units(mechanism, scene) -> dict:
         element = mechanism.elements.get(item) if isinstance(item, str) else None
         if name in mechanism.elements and suffix in ("slip", "loss", "mode"):
             element, along = mechanism.elements[name], None
-            if suffix != "mode":
-                along = dimension(element.input if isinstance(element, LossyGear)
-                                  else element.along)
+            if suffix != "mode" and element.output_along() is not None:
+                along = dimension(element.output_along())
             units[label] = "" if along is None else \
                 (along / TIME).si if suffix == "slip" else (ENERGY / along).si
-        elif isinstance(element, (Load, Friction, Stop, LossyGear)):
-            along = dimension(element.input if isinstance(element, LossyGear)
-                              else element.along)
+        elif element is not None and element.output_along() is not None:
+            along = dimension(element.output_along())    # the output's work per unit of it
             units[label] = (ENERGY / along).si if along is not None else ""
-        elif isinstance(element, (Spring, Damper)):
-            stretch = dimension(element.stretch)
-            units[label] = (ENERGY / stretch).si if stretch is not None else ""
         elif isinstance(item, sp.Basic):
             dim = dimension(item)
             units[label] = dim.si if dim is not None and not dim.dimensionless else ""

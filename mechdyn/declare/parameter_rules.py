@@ -1,4 +1,5 @@
-"""What a mechanism requires of its parameter values: the symbols' declared assumptions
+"""What a mechanism requires of its parameter values (the parameters: the symbols of its
+elements' expressions and of its links' drawn points): the symbols' declared assumptions
 (``positive=True``, ``integer=True``, ...) and the rules of the elements that use them
 (link masses and inertias, stiffnesses, damping and friction magnitudes not negative;
 efficiencies in (0, 1]). :class:`~mechdyn.declare.parameters.ParameterSet` applies them.
@@ -21,15 +22,14 @@ import functools
 import math
 import weakref
 
+import numpy as np
 import sympy as sp
 from sympy.core.function import AppliedUndef
 
-from mechdyn.declare.elements import Damper, Friction, Link, Load, Spring
 from mechdyn.errors import DeclarationError, ParameterError
 from mechdyn.symbols import t
-from mechdyn.declare.unilateral import LossyGear, OneWayClutch, Stop
 
-__all__ = ["MechanismFacts", "facts_of", "scene_symbols", "check_values"]
+__all__ = ["MechanismFacts", "facts_of", "scene_symbols", "check_values", "suspect_rows"]
 
 # Assumptions a value is checked against: fact -> (test on the float, what it must be).
 _FACTS = {
@@ -43,22 +43,7 @@ _FACTS = {
     "even": (lambda v: v == int(v) and int(v) % 2 == 0, "an even number"),
     "odd": (lambda v: v == int(v) and int(v) % 2 == 1, "an odd number"),
 }
-# What the elements need of their constant attributes: (type, attribute) -> rule.
-_ROLES = {
-    (Link, "m"): ("nonnegative", "masses and inertias must not be negative"),
-    (Link, "J"): ("nonnegative", "masses and inertias must not be negative"),
-    (Spring, "k"): ("nonnegative", "a stiffness must not be negative"),
-    (Damper, "c"): ("nonnegative", "a damping coefficient must not be negative"),
-    (Friction, "moment"): ("nonnegative", "a friction magnitude must not be negative"),
-    (Friction, "peak"): ("peak", "static friction is never below sliding friction"),
-    (OneWayClutch, "release"): ("nonnegative", "a release moment must not be negative"),
-    (Stop, "restitution"): ("fraction", "a coefficient of restitution lies in [0, 1]"),
-    (LossyGear, "eta_forward"): ("efficiency", "an efficiency must lie in (0, 1]"),
-    (LossyGear, "bearing_forward"): ("nonnegative", "a bearing moment must not be negative"),
-    (LossyGear, "bearing_backward"): ("nonnegative", "a bearing moment must not be negative"),
-    (Load, "efficiency"): ("efficiency", "an efficiency must lie in (0, 1]"),
-}
-_FAULTS = {       # rule -> (test, how a value breaks it)
+_FAULTS = {       # rule -> (test, how a value breaks it): of an element's RULES
     "efficiency": (lambda v: 0 < v <= 1, "lies outside (0, 1]"),
     "fraction": (lambda v: 0 <= v <= 1, "lies outside [0, 1]"),
     "peak": (lambda v: v >= 1, "is below 1"),
@@ -101,6 +86,73 @@ def check_values(facts, numbers, symbols_named):
                 f"{where} {fault} with {_values_text(names, numbers)}; {why}")
 
 
+_NEAR_BOUND = 1e-9          # a computed value this close to a rule's bound: checked exactly
+
+
+def suspect_rows(facts, fixed, names, columns, symbols_named) -> np.ndarray:
+    """Rows of a grid that may break a rule of :func:`check_values`, all at once.
+
+    ``columns`` (rows x ``names``, floats) vary the values ``names`` of ``fixed`` (name
+    -> float, already checked). A row not flagged passes :func:`check_values`; a flagged
+    one is to be checked exactly (it may pass). Element expressions are evaluated on
+    the whole column in floating point, so a value within ``_NEAR_BOUND`` of a rule's
+    bound, or not finite, is flagged too.
+
+    >>> import sympy as sp, mechdyn as md
+    >>> phi = md.coordinate("phi")
+    >>> disc = md.Mechanism("disc", [phi])
+    >>> _ = disc.link("disc", J=2 * sp.Symbol("J", positive=True), angle=phi)
+    >>> facts = facts_of(disc)
+    >>> suspect_rows(facts, {"J": 1.0}, ["J"], np.array([[1.0], [-1.0], [0.0]]),
+    ...              lambda name: {facts.symbols[name]}).tolist()
+    [False, True, True]
+    """
+    columns = np.asarray(columns, dtype=float).reshape(len(columns), len(names))
+    flagged = np.zeros(len(columns), dtype=bool)
+    swept = dict(zip(names, columns.T))
+    for name, column in swept.items():
+        for symbol in symbols_named(name):
+            for fact in _true_facts(symbol):
+                holds = _FACTS[fact][0]
+                flagged |= [not holds(value) for value in column.tolist()]
+    known = fixed.keys() | swept.keys()
+    for _, _, expr, role_names, (rule, _) in facts.roles:
+        if not role_names & swept.keys() or not role_names <= known:
+            continue                     # checked with the fixed values, or not at all
+        number = _evaluated(expr, role_names, fixed, swept, len(columns))
+        holds = _FAULTS[rule][0]
+        flagged |= [not (math.isfinite(v) and holds(v)) or _near_bound(v)
+                    for v in number.tolist()]
+    return flagged
+
+
+def _evaluated(expr, role_names, fixed, swept, rows) -> np.ndarray:
+    """``expr`` at every row (floats; NaN where it has no finite real value)."""
+    if expr.is_Symbol:
+        return np.broadcast_to(swept.get(expr.name, fixed.get(expr.name)), rows)
+    symbols = sorted(expr.free_symbols, key=lambda s: s.name)
+    try:
+        function = _lambdified(expr, tuple(symbols))
+        with np.errstate(all="ignore"):
+            value = np.asarray(function(*(swept[s.name] if s.name in swept
+                                          else fixed[s.name] for s in symbols)))
+        if np.iscomplexobj(value):
+            value = np.where(value.imag == 0, value.real, np.nan)
+        return np.broadcast_to(value.astype(float), rows)
+    except Exception:                    # not evaluable in numpy: every row exactly
+        return np.full(rows, np.nan)
+
+
+@functools.lru_cache(maxsize=256)
+def _lambdified(expr, symbols):
+    return sp.lambdify(symbols, expr, "numpy")
+
+
+def _near_bound(value) -> bool:
+    """Within ``_NEAR_BOUND`` of 0 or 1, the bounds of the rules in ``_FAULTS``."""
+    return min(abs(value), abs(value - 1.0)) <= _NEAR_BOUND * max(1.0, abs(value))
+
+
 def _used_by(facts, names) -> str:
     users = sorted({user for name in names for user in facts.usage.get(name, ())})
     return f" (used by {', '.join(users)})" if users else ""
@@ -116,7 +168,9 @@ class MechanismFacts:
             return
         for element in mechanism.elements.values():
             label = f"{type(element).__name__.lower()} {element.name!r}"
-            for attribute, expr in element.expressions().items():
+            drawn = {f"points[{k}]": sp.Tuple(*point)               # a link's outline
+                     for k, point in enumerate(getattr(element, "points", ()))}
+            for attribute, expr in {**element.expressions(), **drawn}.items():
                 free = expr.free_symbols - {t}
                 for symbol in free:
                     other = self.symbols.setdefault(symbol.name, symbol)
@@ -127,8 +181,7 @@ class MechanismFacts:
                             f"{_assumption_text(other)} and {_assumption_text(symbol)}); "
                             "declare each parameter once and reuse its symbol")
                     self.usage.setdefault(symbol.name, set()).add(label)
-                rule = next((_ROLES[(cls, attribute)] for cls in type(element).__mro__
-                             if (cls, attribute) in _ROLES), None)
+                rule = getattr(element, "RULES", {}).get(attribute)
                 if rule and free and not expr.has(AppliedUndef, sp.Derivative, t):
                     self.roles.append((label, attribute, expr, {s.name for s in free}, rule))
 

@@ -1,8 +1,8 @@
 """Parameter values: given by symbol or by name, checked once, ordered for compiled code.
 
-Every entry point that takes ``params`` (``simulate``, ``closed_form``,
-``natural_frequencies``, periodic analysis, ``work_precision``, ``sweep``, the command
-line's ``--param``) reads them through one :class:`ParameterSet`, which
+Every entry point that takes ``params`` reads them through one :class:`ParameterSet`
+before it derives or compiles anything (the list: ``tests/test_parameter_entry_points.py``),
+which
 
 - resolves keys given as symbols or as names (``{P: 20}`` and ``{"P": 20}`` are the same)
   to the mechanism's own symbols, with a model's ``params`` as defaults;
@@ -15,7 +15,8 @@ line's ``--param``) reads them through one :class:`ParameterSet`, which
   friction magnitude; an efficiency outside (0, 1]), naming the parameter and the
   elements that use it;
 - gives the ordered vector of floats the compiled code takes, or exact values for the
-  closed forms.
+  closed forms; a value still missing where one is needed is named by
+  :func:`missing_values`, the one wording of that error.
 
 >>> import mechdyn as md
 >>> brake = md.load_model("models/shoe_brake.py")
@@ -30,6 +31,7 @@ mechdyn.errors.ParameterError: parameter P = -20 is negative, but P is declared 
 from __future__ import annotations
 
 import difflib
+import functools
 import math
 import numbers
 from collections.abc import Mapping
@@ -38,10 +40,17 @@ import sympy as sp
 from sympy.core.function import AppliedUndef
 
 from mechdyn.errors import MechdynError, ParameterError
-from mechdyn.declare.parameter_rules import MechanismFacts, check_values, facts_of, scene_symbols
+from mechdyn.declare.parameter_rules import (MechanismFacts, check_values, facts_of, scene_symbols,
+                                            suspect_rows)
 from mechdyn.symbols import t
 
-__all__ = ["ParameterSet", "to_number"]
+__all__ = ["ParameterSet", "to_number", "missing_values"]
+
+@functools.lru_cache(maxsize=4096)
+def _sympy_complex(value) -> complex:
+    """``complex(value)`` of a sympy number (an evalf: about 0.1 ms), kept."""
+    return complex(value)
+
 
 def to_number(name: str, value, unit=None) -> float:
     """The float value (SI) of parameter ``name``: the one place where a given value
@@ -71,7 +80,7 @@ def to_number(name: str, value, unit=None) -> float:
             raise ParameterError(f"parameter {name} = {_shown(value)} is not a number")
         if value.has(sp.nan, sp.zoo):
             raise ParameterError(f"parameter values must be finite: {name} = {value}")
-        value = complex(value)
+        value = _sympy_complex(value)
     elif not isinstance(value, numbers.Number) and getattr(value, "shape", None) == ():
         value = value.item()                      # a 0-d numpy array
     if isinstance(value, numbers.Complex) and not isinstance(value, numbers.Real):
@@ -85,6 +94,18 @@ def to_number(name: str, value, unit=None) -> float:
     except (OverflowError, TypeError, ValueError):
         raise ParameterError(f"parameter {name} = {_shown(value)} is not a finite "
                              "number") from None
+
+
+def missing_values(names, needed_by, owner=None) -> ParameterError:
+    """The error for parameters that have no value where one is needed (every entry
+    point words it so): ``owner`` names the mechanism, ``needed_by`` what needs them.
+
+    >>> print(missing_values(["P", "R"], "the scene 'braking'", "Shoe brake"))
+    'Shoe brake': give values for P, R (needed by the scene 'braking')
+    """
+    names = ", ".join(dict.fromkeys(str(n) for n in names))
+    return ParameterError(f"{'' if owner is None else repr(owner) + ': '}give values for "
+                          f"{names} (needed by {needed_by})")
 
 
 class ParameterSet(Mapping):
@@ -140,10 +161,11 @@ class ParameterSet(Mapping):
         return f"ParameterSet({shown})"
 
     # ------------------------------------------------------------------ outputs
-    def vector(self, names) -> list:
+    def vector(self, names, needed_by=None) -> list:
         """The float values of ``names``, in that order (the ``p`` of compiled code).
 
-        All missing values are named in one error."""
+        All missing values are named in one error (:func:`missing_values`; ``needed_by``
+        says what needs them, by default the scene)."""
         missing = [n for n in names if n not in self.numbers]
         if missing:
             unresolved = [f"{n} = {self.symbolic[n]}" for n in missing if n in self.symbolic]
@@ -151,9 +173,38 @@ class ParameterSet(Mapping):
                 raise ParameterError(f"parameter values are not numbers: "
                                      f"{', '.join(unresolved)} (give values for "
                                      f"{', '.join(self._unresolved(missing))})")
-            raise ParameterError(f"missing parameter values: {', '.join(missing)} "
-                                 f"(the scene needs {', '.join(names)})")
+            scene = "the scene" if self.scene is None else f"the scene {self.scene.name!r}"
+            raise missing_values(missing, needed_by or f"{scene}: {', '.join(names)}",
+                                 getattr(self.mechanism, "name", None))
         return [self.numbers[n] for n in names]
+
+    def refused_points(self, names, points) -> dict:
+        """``{index: ParameterError}``: the points (float values of ``names``, each
+        overriding these numbers) that ``ParameterSet`` refuses, with the error it raises;
+        the rules are applied to all points at once, and only the suspect points are
+        checked one by one (a sweep's grid).
+
+        >>> import mechdyn as md
+        >>> brake = md.load_model("models/shoe_brake.py")
+        >>> values = ParameterSet(brake.params, mechanism=brake.mechanism)
+        >>> print(values.refused_points(["P"], [(10.0,), (-5.0,)])[1])
+        parameter P = -5 is negative, but P is declared positive=True (used by friction 'shoe')
+        """
+        if self.mechanism is None or not points:
+            return {}
+        if set(names) <= self._symbols.keys():
+            suspects = suspect_rows(facts_of(self.mechanism), self.numbers, list(names),
+                                    points, self._symbols_named)
+        else:
+            suspects = [True] * len(points)          # unknown names: the exact error
+        refused = {}
+        for index in (i for i, suspect in enumerate(suspects) if suspect):
+            try:
+                ParameterSet({**self.numbers, **dict(zip(names, points[index]))},
+                             mechanism=self.mechanism, scene=self.scene)
+            except ParameterError as error:
+                refused[index] = error
+        return refused
 
     def by_symbol(self) -> dict:
         """``{symbol: float}`` for every numeric value, keyed by the mechanism's symbols

@@ -19,7 +19,7 @@ import sympy as sp
 
 from mechdyn.declare.elements import Link, as_expression, is_structural
 from mechdyn.errors import MechdynError, SceneError
-from mechdyn.symbols import is_coordinate, t
+from mechdyn.symbols import is_coordinate, t, written
 
 __all__ = ["Scene", "StopCondition", "stopped", "reaches", "selection", "DEFAULT_RTOL",
            "DEFAULT_ATOL", "MIN_RTOL"]
@@ -69,11 +69,11 @@ def reaches(expression, value, direction=0, label=None) -> StopCondition:
     given = ""
     if isinstance(value, str):
         given = " ".join(value.split())
-        value = sp.Float(_si(value, f"reaches({_readable(expression)}, ...)", None))
+        value = sp.Float(_si(value, f"reaches({written(expression)}, ...)", None))
     value = as_expression(value, "reaches(): value")
     return StopCondition(expression, value, int(direction),
-                         label or f"reaches({_readable(expression)}, "
-                         f"{given or _readable(value)})", given)
+                         label or f"reaches({written(expression)}, "
+                         f"{given or written(value)})", given)
 
 
 def _si(text, what, unit):
@@ -87,16 +87,6 @@ def _si(text, what, unit):
         if not message.startswith(repr(text)):
             message = f"{text!r}: {message}"
         raise SceneError(f"{what}: {message}") from None
-
-
-def _readable(expr) -> str:
-    """An expression with coordinates and speeds written as their plain symbols."""
-    from sympy.core.function import AppliedUndef
-
-    from mechdyn.symbols import plain
-    subs = {d: plain(d) for d in expr.atoms(sp.Derivative)}
-    expr = expr.xreplace(subs)
-    return str(expr.xreplace({f: plain(f) for f in expr.atoms(AppliedUndef)}))
 
 
 @dataclass(frozen=True)
@@ -234,7 +224,7 @@ class Scene:
         for key, value in self.initial.items():
             if isinstance(value, str):
                 given[key] = " ".join(value.split())
-                shown = _readable(key) if isinstance(key, sp.Basic) else repr(key)
+                shown = written(key) if isinstance(key, sp.Basic) else repr(key)
                 initial[key] = _si(value, f"scene {self.name!r}: initial value of {shown}",
                                    None)
         object.__setattr__(self, "initial", initial)
@@ -254,7 +244,7 @@ class Scene:
             if isinstance(output, tuple) and len(output) == 2 and isinstance(output[0], str):
                 pairs.append(output)
             elif isinstance(output, sp.Basic):
-                pairs.append((_readable(output), output))
+                pairs.append((written(output), output))
             else:
                 pairs.append((str(output), output))
         return pairs

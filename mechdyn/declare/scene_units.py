@@ -5,7 +5,8 @@ A scene is made without its mechanism, so a value typed with a unit — an initi
 scene is made (the SI value does not depend on the unit expected) and its text kept;
 here, once the mechanism is known, each text is checked against the unit of what it
 gives a value to: a coordinate's declared unit (rad by default), its speed's unit/s, a
-stop expression's dimension (from the declared units). A misfit is a
+stop expression's dimension (from the declared units); :func:`check_scene` also checks
+that stop conditions and initial expressions compare like with like. A misfit is a
 :class:`~mechdyn.errors.SceneError` naming the scene, the state or condition and the
 text.
 
@@ -24,10 +25,12 @@ from __future__ import annotations
 
 import sympy as sp
 
+from mechdyn.declare.dimensions import (Misfit, MissingUnit, _by_name, _plain, _same, dimension_of,
+                                        known_dimensions)
 from mechdyn.errors import MechdynError, SceneError
 from mechdyn.symbols import is_coordinate, plain, t
 
-__all__ = ["state_unit", "check_given"]
+__all__ = ["state_unit", "check_given", "check_scene"]
 
 
 def state_unit(mechanism, key):
@@ -85,8 +88,6 @@ def _expression_unit(mechanism, scene, condition):
     """The unit a stop condition's value must have: the state's own unit for a
     coordinate or speed, else the SI unit of the expression's dimension (an angle
     counted in it, so Hz is refused where radians per second are meant)."""
-    from mechdyn.declare.dimensions import Misfit, MissingUnit, _by_name, _plain, dimension_of, \
-        known_dimensions
     unit = state_unit(mechanism, condition.expression)
     if unit is not None:
         return unit
@@ -110,3 +111,30 @@ def _expression_unit(mechanism, scene, condition):
         si = dim.si
         return "rad" + si[1:] if si.startswith("1/") else "rad" if si == "1" else si
     return dim.si
+
+
+def check_scene(mechanism, scene):
+    """Stop conditions compare like with like; initial values fit their states (also
+    those typed with units, :func:`check_given`)."""
+    check_given(mechanism, scene)
+    known = _by_name(known_dimensions(mechanism))
+    for condition in scene.until:
+        _same_in_scene(scene, condition, [condition.expression, condition.value], known,
+                       f"stop condition {condition!r} ", f"stop condition {condition!r}")
+    for key, value in scene.initial.items():
+        if isinstance(value, sp.Basic):
+            _same_in_scene(scene, key, [key, value], known,
+                           f"initial value of {_plain(key)} = {_plain(value)}: ",
+                           f"initial value of {_plain(key)}")
+
+
+def _same_in_scene(scene, key, expressions, known, misfit_says, missing_says):
+    """:func:`_same` for one entry of ``scene``; a misfit is a SceneError that starts
+    with ``misfit_says``, a symbol without a unit one that names ``missing_says``."""
+    try:
+        _same(key, [_plain(e) for e in expressions], known, {})
+    except Misfit as misfit:
+        raise SceneError(f"scene {scene.name!r}: {misfit_says}{misfit}") from None
+    except MissingUnit as missing:
+        raise SceneError(f"scene {scene.name!r}: {missing_says} uses {missing}, which has "
+                         "no unit") from None

@@ -16,7 +16,8 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from mechdyn.declare.elements import Constraint, Element, Friction
+from mechdyn.declare.element_base import Element, Limit, Sliding, Work
+from mechdyn.declare.elements import Constraint, Friction
 from mechdyn.errors import DeclarationError
 
 __all__ = ["OneWayClutch", "Stop", "LossyGear"]
@@ -31,9 +32,25 @@ class OneWayClutch(Friction):
     whichever is larger: MSL's small threshold of a disengaged clutch)."""
     release: object = 0
 
+    DEPENDS = {**Friction.DEPENDS, "release": ""}
+    RULES = {**Friction.RULES,
+             "release": ("nonnegative", "a release moment must not be negative")}
+    KIND = "one_way"
+
     def __post_init__(self):
         super().__post_init__()
-        self._expr("release", nonnegative=True)
+        self.convert("release", nonnegative=True)
+
+    def work(self, motion):
+        along = motion.position(self.along, self.name)
+        law = motion.law(self.moment, along, self.name)
+        return Work(forces=((-law * sp.Heaviside(motion.rate(along)), along),),
+                    sliding=Sliding(self.KIND, law, along, motion.plain(self.peak),
+                                    motion.plain(self.release)))
+
+    def check_units(self, units):
+        super().check_units(units)
+        units.work("release * d(along)/d{q}", "along", "release")
 
     def expressions(self):
         out = super().expressions()
@@ -53,6 +70,19 @@ class Stop(Element):
     upper: object = None
     restitution: object = 0
 
+    DEPENDS = {"along": "qt", "lower": "", "upper": "", "restitution": ""}
+    MOVING = ("along",)
+    RULES = {"restitution": ("fraction", "a coefficient of restitution lies in [0, 1]")}
+
+    def work(self, motion):
+        along, restitution = motion.plain(self.along), motion.plain(self.restitution)
+        return Work(contacts=tuple(Limit(label, side, along, motion.plain(limit), restitution)
+                                   for label, side, limit in limit_sides(self)))
+
+    def check_units(self, units):
+        units.same("lower", "along")
+        units.same("upper", "along")
+
     def output(self, eqs):
         return sp.S.Zero              # the contact force: filled in at run time
 
@@ -63,11 +93,11 @@ class Stop(Element):
             raise DeclarationError(f"{what}: 'along' is required")
         if self.lower is None and self.upper is None:
             raise DeclarationError(f"{what}: give lower=, upper= or both")
-        self._expr("along")
+        self.convert("along")
         for attribute in ("lower", "upper"):
             if getattr(self, attribute) is not None:
-                self._expr(attribute)
-        self._expr("restitution")
+                self.convert(attribute)
+        self.convert("restitution")
         e = self.restitution
         if e.is_number and not 0 <= e <= 1:
             raise DeclarationError(f"{what}: restitution = {_text(e)} must lie in [0, 1]")
@@ -111,6 +141,10 @@ class LossyGear(Constraint):
     bearing_backward: object = 0
 
     _LAW = ("eta_forward", "eta_backward", "bearing_forward", "bearing_backward")
+    DEPENDS = dict.fromkeys(_LAW, "qvt")
+    RULES = {"eta_forward": ("efficiency", "an efficiency must lie in (0, 1]"),
+             **dict.fromkeys(("bearing_forward", "bearing_backward"),
+                             ("nonnegative", "a bearing moment must not be negative"))}
 
     def __post_init__(self):
         what = f"lossy gear {self.name!r}"
@@ -118,7 +152,7 @@ class LossyGear(Constraint):
             raise DeclarationError(f"{what}: give input= and output= (its two angles)")
         object.__setattr__(self, "equations", ())
         for attribute in ("input", "output", "ratio") + self._LAW:
-            self._expr(attribute)
+            self.convert(attribute)
         if self.ratio.is_number and self.ratio == 0:
             raise DeclarationError(f"{what}: ratio must not be zero")
         eta = self.eta_forward
@@ -138,6 +172,16 @@ class LossyGear(Constraint):
     def law(self) -> tuple:
         """``(eta_forward, eta_backward, bearing_forward, bearing_backward)``."""
         return tuple(getattr(self, attribute) for attribute in self._LAW)
+
+    def work(self, motion):
+        """The mesh's loss acts along ``ratio * output`` (the gear's own constraint
+        holds the rest)."""
+        along = motion.position(self.ratio * self.output, self.name)
+        return Work(sliding=Sliding("gear", sp.S.Zero, along,
+                                    law=tuple(motion.plain(value) for value in self.law)))
+
+    def output_along(self):
+        return self.input
 
     def expressions(self):
         out = super().expressions()

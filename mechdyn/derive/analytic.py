@@ -90,8 +90,8 @@ def _fix_friction_sign(moment, q, u, direction):
 
 def _reduced(mech, scene, params, what, drive=None):
     """Equations, parameter substitution, exact I_red and M_red (without ``drive``)."""
+    subs = _substitution(mech, scene, params)              # checked before deriving
     eqs = _one_dof(mech, scene, what)
-    subs = _substitution(mech, scene, params)
     moment = eqs.reduced_moment
     if drive is not None:
         left_out = [n for n in eqs.generalized_forces

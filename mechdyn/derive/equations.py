@@ -11,7 +11,8 @@ transmission functions read from them.
 >>> reduced_inertia(drive), reduced_moment(drive)
 (J, M)
 """
-from mechdyn.declare.dimensions import check_elements, check_equations, check_scene
+from mechdyn.declare.dimensions import check_elements, check_equations
+from mechdyn.declare.scene_units import check_scene
 from mechdyn.declare.scene import selection
 from mechdyn.derive import transmission
 from mechdyn.derive.lagrange import derive

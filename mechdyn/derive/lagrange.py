@@ -21,11 +21,9 @@ from __future__ import annotations
 
 import numpy as np
 import sympy as sp
-from mechdyn.declare.elements import (Constraint, Damper, Friction, Gravity, Link, Load, Spring,
-                       is_structural)
+from mechdyn.declare.elements import Constraint, Link, is_structural
 from mechdyn.errors import DerivationError
 from mechdyn.symbols import dotted_symbol, t
-from mechdyn.declare.unilateral import LossyGear, OneWayClutch, Stop, limit_sides
 from mechdyn.derive.terms import (ConstraintTerm, ContactTerm, Equations, FrictionTerm, GearTerm)
 
 __all__ = ["derive"]
@@ -62,8 +60,12 @@ def derive(mechanism, element_names=None, rigid=()) -> Equations:
             grad = [_diff(expr, qi) if qi in present else sp.S.Zero for qi in q]
         return sp.Add(*[g * ui for g, ui in zip(grad, u) if g != 0], _diff(expr, t))
 
-    def gradient(expr):
-        return sp.Matrix([_diff(expr, qi) for qi in q])
+    gradients = {}
+
+    def gradient(expr):                # each expression's gradient is taken once
+        if expr not in gradients:
+            gradients[expr] = sp.Matrix([_diff(expr, qi) for qi in q])
+        return gradients[expr].copy()
 
     def scaled(factor, column):        # factor * column, skipping the zero entries
         return column.applyfunc(lambda entry: factor * entry if entry != 0 else entry)
@@ -84,72 +86,35 @@ def derive(mechanism, element_names=None, rigid=()) -> Equations:
             + _diff(slide, t)
         return grad, slide, bias
 
-    forces, powers, frictions, contacts, sources = {}, {}, [], [], {}
-    zero = sp.zeros(len(q), 1)
+    motion = _Motion(to_plain, lambda expr: rate(expr, gradient(expr)), link_plain)
+    forces, powers, frictions, contacts, works = {}, {}, [], [], {}
     for name in element_names:
-        element = elements[name]
         if name in rigid_names:
             continue
-        if isinstance(element, Load):
-            along = to_plain(element.along)
-            value = to_plain(element.value)
-            sources[name] = ("load", value, along, None if element.efficiency is None
-                             else to_plain(element.efficiency))
-            if element.efficiency is not None:
-                value = value * _efficiency_factor(value * rate(along), element.efficiency)
-            column = scaled(value, gradient(along))
-        elif isinstance(element, Spring):
-            stretch = to_plain(element.stretch)
-            k = to_plain(element.k)
-            sources[name] = ("spring", k, stretch)
-            potential += k * stretch ** 2 / 2
-            column = scaled(-k * stretch, gradient(stretch))
-        elif isinstance(element, Damper):
-            stretch = to_plain(element.stretch)
-            c = to_plain(element.c)
-            sources[name] = ("damper", c, stretch)
-            grad = gradient(stretch)
-            stretch_rate = rate(stretch, grad)
-            dissipation += c * stretch_rate ** 2 / 2
-            column = scaled(-c * stretch_rate, grad)
-        elif isinstance(element, Gravity):
-            column = zero
-            sources[name] = ("gravity", element.g, None)
-            for (m, _, _, y, _) in link_plain.values():
-                potential += m * element.g * y
-                column = column - m * element.g * gradient(y)
-        elif isinstance(element, Friction):
-            along = to_plain(element.along)
-            magnitude = to_plain(element.moment)
-            grad, slide, bias = moving(along)
-            one_way = isinstance(element, OneWayClutch)
-            sources[name] = ("one_way" if one_way else "friction", magnitude, along)
-            frictions.append(FrictionTerm(
-                name, magnitude, grad, slide, bias, "one_way" if one_way else "friction",
-                to_plain(element.peak), to_plain(element.release) if one_way else sp.S.Zero))
-            column = -magnitude * (sp.Heaviside(slide) if one_way else sp.sign(slide)) * grad
-        elif isinstance(element, Stop):
-            along = to_plain(element.along)
-            grad, slide, bias = moving(along)
-            for label, side, limit in limit_sides(element):
-                contacts.append(ContactTerm(label, name, side * (along - to_plain(limit)),
-                                            side * grad, side * slide, side * bias,
-                                            to_plain(element.restitution)))
-            column = zero
-        else:  # pragma: no cover - every element type is handled above
-            raise TypeError(type(element))
+        works[name] = work = elements[name].work(motion)
+        potential += work.potential
+        dissipation += work.dissipation
+        columns = [scaled(value, gradient(along)) for value, along in work.forces]
+        column = columns[0] if len(columns) == 1 else sum(columns, sp.zeros(len(q), 1))
+        if work.sliding is not None:
+            frictions.append(_friction_term(name, work.sliding, moving))
+        for limit in work.contacts:
+            grad, slide, bias = moving(limit.along)
+            side = limit.side
+            contacts.append(ContactTerm(limit.label, name, side * (limit.along - limit.limit),
+                                        side * grad, side * slide, side * bias,
+                                        limit.restitution))
         forces[name] = column
         powers[name] = sp.Add(*[column[i] * u[i] for i in range(len(q)) if column[i] != 0])
 
     constraints = _constraint_terms(mechanism, to_plain, gradient, rate, q, u)
     gears = []
     for index, constraint in enumerate(constraints):
-        gear = elements[constraint.name] if constraint.name in elements else None
-        if isinstance(gear, LossyGear):
-            grad, slide, bias = moving(to_plain(gear.ratio * gear.output))
-            gears.append(GearTerm(gear.name, index, len(frictions),
-                                  tuple(to_plain(value) for value in gear.law)))
-            frictions.append(FrictionTerm(gear.name, sp.S.Zero, grad, slide, bias, "gear"))
+        element = elements.get(constraint.name)
+        sliding = element.work(motion).sliding if isinstance(element, Constraint) else None
+        if sliding is not None:        # a lossy gear: its mesh loss slides or sticks
+            gears.append(GearTerm(constraint.name, index, len(frictions), sliding.law))
+            frictions.append(_friction_term(constraint.name, sliding, moving))
     constrained = {qi for c in constraints for qi, g in zip(q, c.gradient) if g != 0}
     mass, inertial = _lagrange(kinetic, q, u)
     for i, qi in enumerate(q):
@@ -172,7 +137,8 @@ def derive(mechanism, element_names=None, rigid=()) -> Equations:
         excluded=excluded, rigid=rigid_names, rheonomic=rheonomic, links=link_plain,
         to_plain=to_plain, constraints=constraints,
         independent=tuple(plain_of[c] for c in mechanism.independent if c in kept),
-        contacts=tuple(contacts), gears=tuple(gears), sources=sources,
+        contacts=tuple(contacts), gears=tuple(gears), works=works,
+        acting={name: elements[name] for name in works},
         coordinate_units={plain_of[c]: mechanism.units.get(c.func.__name__, "rad")
                           for c in kept})
 
@@ -288,9 +254,27 @@ def _check_regular(mass, q, name):
             "together need one coordinate, or a link that moves with the difference)")
 
 
-def _efficiency_factor(power, eta):
-    """1/eta while the load draws power from the drive, eta while it feeds power back."""
-    return sp.Piecewise((eta, power > 0), (1 / eta, True))
+class _Motion:
+    """The motion elements write their work with (:mod:`mechdyn.declare.element_base`):
+    plain symbols, rigid springs' coordinates eliminated."""
+
+    def __init__(self, to_plain, rate, links):
+        self.plain, self.rate, self.links = to_plain, rate, links
+
+    def position(self, expr, owner):
+        return self.plain(expr)
+
+    def law(self, expr, along, owner):
+        return self.plain(expr)
+
+    def heights(self):
+        return [(name, m, y) for name, (m, _, _, y, _) in self.links.items()]
+
+
+def _friction_term(name, sliding, moving) -> FrictionTerm:
+    grad, slide, bias = moving(sliding.along)
+    return FrictionTerm(name, sliding.magnitude, grad, slide, bias, sliding.kind,
+                        sliding.peak, sliding.release)
 
 
 def _eliminate(mechanism, rigid, plain, coords):

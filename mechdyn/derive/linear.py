@@ -98,11 +98,11 @@ def linearize(mechanism, scene=None, at=None, params=None, inputs=(), outputs=()
     outputs : list
         Coordinates, speeds, element names or expressions; default all states.
     """
+    values = ParameterSet(params, mechanism=mechanism, scene=scene).by_symbol()
     eqs = mechanism.equations(scene)
     q, u = list(eqs.q), list(eqs.u)
     n = len(q)
     point = _operating_point(eqs, at)
-    values = ParameterSet(params, mechanism=mechanism, scene=scene).by_symbol()
     by_name = {s.name: s for s in values}
     symbols = [_input_symbol(w, by_name, eqs) for w in inputs]
     fixed = {s: v for s, v in values.items()}

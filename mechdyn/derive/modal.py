@@ -30,7 +30,7 @@ import scipy.optimize
 import sympy as sp
 
 from mechdyn.errors import DerivationError, ParameterError
-from mechdyn.declare.parameters import ParameterSet
+from mechdyn.declare.parameters import ParameterSet, missing_values
 from mechdyn.symbols import plain, t
 
 __all__ = ["Modes", "natural_frequencies"]
@@ -108,10 +108,10 @@ def natural_frequencies(mechanism, scene=None, params=None, at=None) -> Modes:
     >>> modes.omega, modes.damping_ratios
     (array([20.]), array([0.1]))
     """
+    values = ParameterSet(params, mechanism=mechanism, scene=scene).by_symbol()
     eqs = mechanism.equations(scene)
     q, u = list(eqs.q), list(eqs.u)
     point = _operating_point(eqs, at)
-    values = ParameterSet(params, mechanism=mechanism, scene=scene).by_symbol()
     forcing = eqs.smooth_forcing
     matrices = {"mass": eqs.mass_matrix,
                 "stiffness": sp.hessian(eqs.potential_energy, q),
@@ -179,9 +179,7 @@ def _numeric(matrix, point, values, what, name) -> np.ndarray:
     numeric = matrix.xreplace(values).xreplace(point)
     missing = set().union(*(e.free_symbols for e in numeric))
     if missing:
-        raise ParameterError(
-            f"{name!r}: give values for {', '.join(sorted(map(str, missing)))} "
-            f"(needed by the {what} matrix)")
+        raise missing_values(sorted(map(str, missing)), f"the {what} matrix", name)
     return np.array(numeric.evalf(), dtype=float)
 
 

@@ -82,8 +82,9 @@ class Equations:
     ``constraints`` (the closed loops' :class:`ConstraintTerm` s: ``M a = f + G' lambda``
     with ``G a = -bias``), ``independent`` (plain symbols of the independent coordinates),
     ``contacts`` (the stops' limits, :class:`ContactTerm`), ``gears`` (:class:`GearTerm`),
-    ``sources`` (element name -> ``(kind, value, along, ...)`` as declared, in plain
-    symbols: what the printed derivation writes each element's term from),
+    ``works`` (element name -> its :class:`~mechdyn.declare.element_base.Work` in plain
+    symbols), ``acting`` (element name -> the element: the printed derivation asks it
+    for its terms in named quantities),
     ``coordinate_units`` (plain symbol -> declared unit).
     """
     name: str
@@ -110,7 +111,8 @@ class Equations:
     independent: tuple = ()
     contacts: tuple = ()
     gears: tuple = ()
-    sources: dict = field(default_factory=dict)
+    works: dict = field(default_factory=dict)
+    acting: dict = field(default_factory=dict)
     coordinate_units: dict = field(default_factory=dict)
 
     # --------------------------------------------------------------- the system

@@ -24,17 +24,17 @@ J_1 + l**2*m_3*sin(phi)**2
 """
 from __future__ import annotations
 
-import time
 from dataclasses import dataclass, field
 
 import sympy as sp
 from sympy.printing.latex import LatexPrinter
 
+from mechdyn.derive.budget import Budget, cheap_tidy
+from mechdyn.derive.coupling_steps import coupling_steps
 from mechdyn.symbols import t
 
 __all__ = ["Named", "Budget", "Derivation", "textbook", "applies", "to_latex", "cheap_tidy"]
 
-_TIDY_LIMIT = 400        # operations; larger expressions are printed as derived
 _ANGLES = ("rad", "deg", "degree", "rev", "revolution", "1")
 
 
@@ -110,41 +110,6 @@ def to_latex(expr) -> str:
     return _Printer().doprint(expr)
 
 
-def cheap_tidy(expr):
-    """The shortest of ``expr``, ``factor_terms(expr)`` and ``factor_terms(together)``
-    (by operations, then text): fast and the same whatever the hash order.
-
-    >>> x, y = sp.symbols("x y")
-    >>> cheap_tidy(2*x*y + 2*x)
-    2*x*(y + 1)
-    """
-    if not isinstance(expr, sp.Expr) or sp.count_ops(expr) > _TIDY_LIMIT \
-            or expr.has(sp.Piecewise):
-        return expr
-    candidates = [expr, sp.factor_terms(expr)]
-    candidates.append(sp.factor_terms(sp.together(candidates[1])))
-    return min(candidates, key=lambda e: (sp.count_ops(e), len(sp.sstr(e)), sp.sstr(e)))
-
-
-class Budget:
-    """Time for simplification: ``seconds`` in all from when it is made; then
-    expressions are left as derived and ``spent`` is set."""
-
-    def __init__(self, seconds=10.0):
-        self.seconds = seconds
-        self.start = time.perf_counter()
-        self.spent = False
-
-    def tidy(self, expr):
-        """``expr`` tidied (:func:`cheap_tidy`) while time is left, else as it is."""
-        if isinstance(expr, sp.MatrixBase):
-            return expr.applyfunc(self.tidy)
-        if self.spent or time.perf_counter() - self.start > self.seconds:
-            self.spent = True
-            return expr
-        return cheap_tidy(expr)
-
-
 @dataclass
 class Derivation:
     """The named derivation of one mechanism: ``steps`` (label, LaTeX left side, text
@@ -171,7 +136,7 @@ class Derivation:
 def applies(eqs) -> bool:
     """Whether the named derivation applies: no closed loops and no positions or
     ``along`` expressions that depend explicitly on time."""
-    alongs = [source[2] for source in eqs.sources.values() if source[2] is not None]
+    alongs = [along for work in eqs.works.values() for _, along in work.forces]
     return not (eqs.constraints or eqs.rheonomic or eqs.gears
                 or any(t in expr.free_symbols for expr in alongs))
 
@@ -254,6 +219,28 @@ class _Book:
         return "M" if all(unit in _ANGLES for unit in units) else "F"
 
 
+class _NamedMotion:
+    """The motion elements write their terms with (:mod:`mechdyn.declare.element_base`),
+    in the book's named positions and laws."""
+
+    def __init__(self, book):
+        self.book = book
+        self.plain = book.eqs.to_plain
+
+    def position(self, expr, owner):
+        return self.book.position(self.plain(expr), "s", owner)
+
+    def law(self, expr, along, owner):
+        return self.book.value(self.plain(expr), self.book.letter(along), owner)
+
+    def rate(self, expr):
+        return self.book.rate(expr)
+
+    def heights(self):
+        return [(link, m, self.book.position(y, "y", link) if m != 0 else sp.S.Zero)
+                for link, (m, _, _, y, _) in self.book.eqs.links.items()]
+
+
 def textbook(eqs, budget=None) -> Derivation:
     """The named derivation of ``eqs`` (see the module); ``budget`` a :class:`Budget`."""
     budget = budget or Budget()
@@ -269,32 +256,16 @@ def textbook(eqs, budget=None) -> Derivation:
             kinetic += inertia * book.rate(h) ** 2 / 2
             mass += inertia * sp.Matrix(n, n, lambda i, j: grads[i] * grads[j])
     potential, dissipation, terms = sp.S.Zero, sp.S.Zero, {}
-    for name, (kind, value, along, *rest) in eqs.sources.items():
+    motion = _NamedMotion(book)
+    for name, element in eqs.acting.items():
+        work = element.work(motion)              # each term as its element writes it
+        potential += work.potential
+        dissipation += work.dissipation
+        if not work.forces:
+            continue                             # a stop: its limits are printed apart
         column = sp.zeros(n, 1)
-        if kind == "gravity":
-            for link, (m, _, _, y, _) in eqs.links.items():
-                hy = book.position(y, "y", link) if m != 0 else sp.S.Zero
-                potential += m * value * hy
-                column -= sp.Matrix([m * value * book.slope(hy, qk) for qk in q])
-        elif kind != "stop":
-            h = book.position(along, "s", name)
-            grads = sp.Matrix([book.slope(h, qk) for qk in q])
-            if kind == "load":
-                law = book.value(value, book.letter(h), name)
-                if rest[0] is not None:
-                    law = law * sp.Piecewise((rest[0], law * book.rate(h) > 0),
-                                             (1 / rest[0], True))
-                column = law * grads
-            elif kind == "spring":
-                potential += value * h ** 2 / 2
-                column = -value * h * grads
-            elif kind == "damper":
-                dissipation += value * book.rate(h) ** 2 / 2
-                column = -value * book.rate(h) * grads
-            else:                                        # friction, one-way clutch
-                law = book.value(value, book.letter(h), name)
-                switch = sp.Heaviside if kind == "one_way" else sp.sign
-                column = -law * switch(book.rate(h)) * grads
+        for value, along in work.forces:
+            column += value * sp.Matrix([book.slope(along, qk) for qk in q])
         terms[name] = column
     forces = sp.Matrix(n, 1, lambda i, _: sp.Add(*[c[i] for c in terms.values()]))
     mass = mass.applyfunc(lambda e: sp.factor_terms(sp.expand(e)))
@@ -325,7 +296,6 @@ def _velocity_terms(book, mass):
 
 
 def _steps(eqs, book, result, kinetic, potential, dissipation) -> list:
-    from mechdyn.derive.latex import coupling_steps
     steps = []
     for c, expr in eqs.eliminated.items():
         steps.append(("rigid", sp.latex(sp.Symbol(c.func.__name__)), c.func.__name__,

@@ -2,8 +2,8 @@
 event location and stiffness-switch tests, driven in chunks from Python.
 
 Import cost: numba, its one-time initialisation and the cached kernel (measured by
-``benchmarks/process.py``); nothing in mechdyn imports this package until a run uses the
-compiled backend. The first import after installing or editing a kernel module compiles
+``benchmarks/process.py``), with the garbage collector paused (:mod:`.startup`); nothing
+in mechdyn imports this package until a run uses the compiled backend. The first import after installing or editing a kernel module compiles
 the kernel.
 
 Model functions (see :mod:`.functions`) are numba functions with the signatures
@@ -52,13 +52,16 @@ step-size controller itself.
 :class:`Integration` wraps all this for Python callers; :func:`dense_values` evaluates
 stored steps at many times at once.
 """
-from .api import Chunk, Integration, dense_values, new_carry
-from .functions import (EVENTS_SIGNATURE, JAC_SIGNATURE, RHS_SIGNATURE, ModelFunctions,
-                        model_functions)
+from .startup import collector_paused
+
+with collector_paused():          # numba's start-up and the cached kernel (see .startup)
+    from .api import Chunk, Integration, dense_values, new_carry
+    from .functions import (EVENTS_SIGNATURE, JAC_SIGNATURE, RHS_SIGNATURE,
+                            ModelFunctions, model_functions)
+    from .loop import integrate
 from .layout import (CHUNK_FULL, DOP853, EITHER, EVENT, FALLING, FINISHED, IGNORED,
                      INVALID_INPUT, NONSTIFF, NOT_FINITE, RISING, RODAS5P, STEP_TOO_SMALL,
                      STIFF, carry_size)
-from .loop import integrate
 
 __all__ = ["integrate", "Integration", "Chunk", "dense_values", "new_carry", "carry_size",
            "model_functions", "ModelFunctions", "RHS_SIGNATURE", "JAC_SIGNATURE",

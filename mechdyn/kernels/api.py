@@ -82,11 +82,15 @@ class Integration:
     :func:`mechdyn.kernels.loop.integrate`: ``autonomous`` skips df/dt in RODAS5P,
     ``midpoint_events`` also samples events at each step's midpoint, ``detect_switch``
     lets the kernel return STIFF / NONSTIFF, ``dense`` stores dense output.
+    ``scratch``: a dict the chunks' work arrays are kept in and reused from (a driver
+    running many short segments passes the same one to each: no fresh megabytes per
+    call); the chunks returned are then copies of the part used.
     """
 
     def __init__(self, functions, p, t0, y0, *, method=DOP853, rtol=1e-6, atol=1e-9,
                  directions=(), h0=0.0, max_step=np.inf, autonomous=False,
-                 midpoint_events=True, detect_switch=True, dense=True):
+                 midpoint_events=True, detect_switch=True, dense=True, scratch=None):
+        self.scratch = scratch
         if not isinstance(functions, ModelFunctions):
             raise ParameterError("functions must come from mechdyn.kernels.model_functions"
                                  f", got {type(functions).__name__}")
@@ -137,8 +141,7 @@ class Integration:
         if max_steps < 0:
             raise ParameterError(f"max_steps must be >= 0, got {max_steps}")
         n, degree = self.n, DEGREE[self.method]
-        ts, ys = np.empty(max_steps + 1), np.empty((max_steps + 1, n))
-        coefs = np.empty((max_steps if self.dense else 0, degree + 1, n))
+        ts, ys, coefs = self._work_arrays(max_steps, n, degree)
         fired = np.zeros(self.directions.size, dtype=np.int64)
         status, steps = integrate(
             self.method, self.functions.addresses, self.p, t_bound, self.rtol, self.atol,
@@ -146,8 +149,22 @@ class Integration:
             self.directions, max_steps, self.carry, self.counts, ts, ys, coefs, 0, fired)
         if status == INVALID_INPUT:   # the checks above should make this unreachable
             raise MechdynError("the integration kernel rejected its inputs")
-        return Chunk(status, self.method, ts[:steps + 1], ys[:steps + 1],
-                     coefs[:steps] if self.dense else coefs, fired)
+        ts, ys, coefs = ts[:steps + 1], ys[:steps + 1], coefs[:steps] if self.dense else coefs
+        if self.scratch is not None:                 # the work arrays are used again
+            ts, ys, coefs = ts.copy(), ys.copy(), coefs.copy()
+        return Chunk(status, self.method, ts, ys, coefs, fired)
+
+    def _work_arrays(self, max_steps, n, degree):
+        """``ts``, ``ys`` and ``coefs`` for a chunk of ``max_steps`` steps: fresh, or
+        from ``scratch`` (allocated there once per shape)."""
+        shape = (max_steps, n, degree if self.dense else -1)
+        if self.scratch is not None and shape in self.scratch:
+            return self.scratch[shape]
+        arrays = (np.empty(max_steps + 1), np.empty((max_steps + 1, n)),
+                  np.empty((max_steps if self.dense else 0, degree + 1, n)))
+        if self.scratch is not None:
+            self.scratch[shape] = arrays
+        return arrays
 
     def switch(self, method):
         """Continue with another method (the kernel resets the step-size controller)."""

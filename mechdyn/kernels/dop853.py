@@ -18,6 +18,7 @@ import math
 from numba import njit
 
 from .dop853_tableau import A, B, C, D, E3, E5
+from .linalg import stage_sum
 
 SAFETY = 0.9
 MIN_FACTOR = 0.333   # dop853.f FAC1: the new step is at least 0.333 the old one
@@ -35,17 +36,10 @@ def attempt(rhs, t, y, h, t_new, p, atol, rtol, K, y_stage, y_new):
     the step is not finite)."""
     n = y.shape[0]
     for s in range(1, 12):
-        for i in range(n):
-            total = 0.0
-            for j in range(s):
-                total += A[s, j] * K[j, i]
-            y_stage[i] = y[i] + h * total
+        _stage_argument(y, h, K, y_stage, s)
         rhs(t + C[s] * h, y_stage, p, K[s])
     for i in range(n):
-        total = 0.0
-        for j in range(12):
-            total += B[j] * K[j, i]
-        y_new[i] = y[i] + h * total
+        y_new[i] = y[i] + h * stage_sum(B, K, i, 12)
     rhs(t_new, y_new, p, K[12])
     err5 = 0.0
     err3 = 0.0
@@ -66,6 +60,16 @@ def attempt(rhs, t, y, h, t_new, p, atol, rtol, K, y_stage, y_new):
     norm = abs(h) * err5 / denominator
     norm = max(norm, ERROR_FLOOR * abs(h) * math.sqrt(err5 / n))
     return norm if math.isfinite(norm) else math.inf
+
+
+@njit(inline="always")
+def _stage_argument(y, h, K, y_stage, s):
+    """The argument of stage ``s`` into ``y_stage`` (its slope, ``rhs`` there, is the
+    caller's: a model function passed into an inlined function slows the step by a
+    third)."""
+    weights = A[s]
+    for i in range(y.shape[0]):
+        y_stage[i] = y[i] + h * stage_sum(weights, K, i, s)
 
 
 @njit(inline="always")
@@ -117,23 +121,15 @@ def dense_output(rhs, t, y, h, p, K, y_stage, y_new, poly):
     y_i(t + x h) = sum_k poly[k, i] x^k; evaluates the three extra stages K[13:16]."""
     n = y.shape[0]
     for s in range(13, 16):
-        for i in range(n):
-            total = 0.0
-            for j in range(s):
-                total += A[s, j] * K[j, i]
-            y_stage[i] = y[i] + h * total
+        _stage_argument(y, h, K, y_stage, s)
         rhs(t + C[s] * h, y_stage, p, K[s])
     # dop853.f's form: y + x(F0 + (1-x)(F1 + x(F2 + (1-x)(F3 + x(F4 + (1-x)(F5 + x F6))))))
+    D3, D4, D5, D6 = D[0], D[1], D[2], D[3]
     for i in range(n):
-        d3 = 0.0
-        d4 = 0.0
-        d5 = 0.0
-        d6 = 0.0
-        for j in range(16):
-            d3 += D[0, j] * K[j, i]
-            d4 += D[1, j] * K[j, i]
-            d5 += D[2, j] * K[j, i]
-            d6 += D[3, j] * K[j, i]
+        d3 = stage_sum(D3, K, i, 16)
+        d4 = stage_sum(D4, K, i, 16)
+        d5 = stage_sum(D5, K, i, 16)
+        d6 = stage_sum(D6, K, i, 16)
         delta = y_new[i] - y[i]
         f_terms = (delta, h * K[0, i] - delta, 2.0 * delta - h * (K[12, i] + K[0, i]),
                    h * d3, h * d4, h * d5, h * d6)

@@ -46,6 +46,9 @@ H_RHO = 7           #: the last stiffness estimate h * spectral radius
 EVENTS_VALID = 8    #: 1 if the event sign memory belongs to the current event functions
 METHOD = 9          #: the method of the last call (a change resets the controller)
 HEAD = 10           #: then y (n), the power-iteration vector (n), event sign memory (m)
+                    #: (a memory of +1/-1 is the side of an event function while it
+                    #: is zero; +2/-2 at the start of a call: that side whatever its
+                    #: value, as a locked branch's switching function is watched)
 
 
 def carry_size(n, n_events):

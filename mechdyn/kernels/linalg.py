@@ -1,4 +1,5 @@
-"""Small dense LU decomposition with partial pivoting, compiled with numba.
+"""Small dense LU decomposition with partial pivoting, and the stage sums of the
+Runge-Kutta and Rosenbrock steps, compiled with numba.
 
 Own code rather than ``np.linalg``: LAPACK would pull scipy.linalg into the kernel's
 import and make results depend on the BLAS build's rounding. The matrices of mechdyn's
@@ -10,6 +11,8 @@ models are small (tens of states), where a plain triple loop is as fast as LAPAC
 True
 >>> b = np.array([2.0, 9.0]); lu_solve(a, piv, b); b.tolist()
 [2.0, 1.0]
+>>> stage_sum(np.array([0.5, 2.0, 9.0]), np.array([[2.0, 0.0], [3.0, 1.0]]), 0, 2)
+7.0
 """
 from numba import njit
 
@@ -63,3 +66,12 @@ def lu_solve(lu, piv, b):
         for j in range(i + 1, n):
             total -= lu[i, j] * b[j]
         b[i] = total / lu[i, i]
+
+
+@njit(inline="always")
+def stage_sum(weights, ks, i, count):
+    """``sum_j weights[j] ks[j, i]`` over the first ``count`` rows (stages) of ``ks``."""
+    total = 0.0
+    for j in range(count):
+        total += weights[j] * ks[j, i]
+    return total

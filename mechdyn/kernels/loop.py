@@ -163,8 +163,12 @@ def _compile(fingerprint):
             counts[NGEV] += 1
             for i in range(m):
                 sign = 1 if g_old[i] > 0.0 else (-1 if g_old[i] < 0.0 else 0)
-                if sign == 0 and carry[EVENTS_VALID] == 1.0:
-                    sign = int(carry[HEAD + 2 * n + i])
+                if carry[EVENTS_VALID] == 1.0:
+                    kept = carry[HEAD + 2 * n + i]
+                    if kept == 2.0 or kept == -2.0:    # this side, whatever the value
+                        sign = int(kept) // 2
+                    elif sign == 0:
+                        sign = int(kept)
                 memory[i] = sign
                 watching = watching or directions[i] != IGNORED
             carry[EVENTS_VALID] = 1.0

@@ -23,7 +23,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .linalg import lu_factor, lu_solve
+from .linalg import lu_factor, lu_solve, stage_sum
 
 GAMMA = 0.21193756319429014
 A = np.zeros((8, 8))
@@ -128,10 +128,7 @@ def attempt(rhs, t, y, f0, h, t_new, p, atol, rtol, J, dfdt, autonomous, W, pivo
                 f_stage[i] = f0[i]
         else:
             for i in range(n):
-                total = 0.0
-                for j in range(s):
-                    total += A[s, j] * ks[j, i]
-                y_stage[i] = y[i] + total
+                y_stage[i] = y[i] + stage_sum(A[s], ks, i, s)
             rhs(t + STAGE_TIMES[s] * h, y_stage, p, f_stage)
         for i in range(n):
             total = f_stage[i]
@@ -177,13 +174,9 @@ def dense_output(y, y_new, ks, poly):
     """Monomial coefficients poly[0:5] of the 4th-order interpolant (module doc);
     the higher rows of ``poly`` are zeroed."""
     for i in range(y.shape[0]):
-        k1 = 0.0
-        k2 = 0.0
-        k3 = 0.0
-        for j in range(8):
-            k1 += H[0, j] * ks[j, i]
-            k2 += H[1, j] * ks[j, i]
-            k3 += H[2, j] * ks[j, i]
+        k1 = stage_sum(H[0], ks, i, 8)
+        k2 = stage_sum(H[1], ks, i, 8)
+        k3 = stage_sum(H[2], ks, i, 8)
         poly[0, i] = y[i]
         poly[1, i] = y_new[i] - y[i] + k1
         poly[2, i] = k2 - k1

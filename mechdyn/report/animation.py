@@ -62,14 +62,18 @@ def animate(mechanism, result, params=None, path="animation.gif", sample=None, f
     """
     from PIL import Image
 
+    from mechdyn.declare.parameters import ParameterSet
+    from mechdyn.declare.scene import Scene
     from mechdyn.plotting import pyplot
+    scene = result.scene if isinstance(result.scene, Scene) else None
+    values = ParameterSet(params, mechanism=mechanism, scene=scene)
     if not fps > 0:
         raise MechdynError(f"animate: fps = {fps} must be positive")
     times = result.sample_times(sample if sample is not None else 1.0 / fps)
     if len(times) > _MAX_FRAMES:
         raise MechdynError(f"animate: {len(times)} frames; give a larger sample (at most "
                            f"{_MAX_FRAMES} frames)")
-    drawn = _link_points(mechanism, result, params or {})
+    drawn = _link_points(mechanism, result, values)
     states = result.trajectory.at(times)[:result.compiled.dof]
     paths = {name: f(times, states) for name, f in drawn.items()}   # (2, points, frames)
     _tick_scale(paths, drawn)
@@ -117,11 +121,12 @@ def animate(mechanism, result, params=None, path="animation.gif", sample=None, f
     return Film(Path(path), times, float(fps))
 
 
-def _link_points(mechanism, result, params):
-    """Per link, a function of (times, coordinate rows) -> array (2, points, frames)."""
+def _link_points(mechanism, result, values):
+    """Per link, a function of (times, coordinate rows) -> array (2, points, frames);
+    ``values``: a :class:`~mechdyn.declare.parameters.ParameterSet`."""
     from mechdyn.declare.elements import Link
+    from mechdyn.declare.parameters import missing_values
     eqs = mechanism.equations(result.scene)
-    values = {str(k): v for k, v in params.items()}
     drawn = {}
     for name, link in mechanism.elements.items():
         if not isinstance(link, Link):
@@ -135,13 +140,11 @@ def _link_points(mechanism, result, params):
         exprs = [eqs.to_plain(sp.sympify(e)) for point in points for e in point]
         if tick:
             exprs += [eqs.to_plain(link.angle)]
-        exprs = [sp.sympify(e.xreplace({s: sp.sympify(values[s.name])
-                                        for s in e.free_symbols if s.name in values}))
-                 for e in exprs]
+        exprs = [sp.sympify(values.substitute(e)) for e in exprs]
         missing = set().union(*(e.free_symbols for e in exprs)) - set(eqs.q) - {t}
         if missing:
-            raise MechdynError(f"animate: link {name!r}: give values for "
-                               f"{', '.join(sorted(map(str, missing)))}")
+            raise missing_values(sorted(map(str, missing)), f"link {name!r} (animate)",
+                                 mechanism.name)
         f = sp.lambdify((t, *eqs.q), exprs, "numpy")
         drawn[name] = _evaluator(f, len(points), tick)
     if not drawn:

@@ -89,6 +89,8 @@ def report(mechanism, scene, params, precision=False) -> Report:
     >>> page.html.count("data:image/png;base64,")       # the default figure
     1
     """
+    from mechdyn.declare.parameters import ParameterSet
+    params = ParameterSet(params, mechanism=mechanism, scene=scene)   # before deriving
     eqs = mechanism.equations(scene)
     failure = ""
     try:
@@ -161,6 +163,7 @@ def _elements(mechanism, eqs) -> str:
 
 
 def _parameters(params, eqs, units) -> str:
+    """The table of the values (SI) of the parameters the equations use."""
     needed = {str(s) for s in eqs.parameters}
     rows = [f"<tr><td>{_math(sp.latex(sp.Symbol(str(k))))}</td>"
             f"<td class='num'>{_e(_number(v))}</td><td>{_e(units.get(str(k), ''))}</td></tr>"
@@ -195,26 +198,9 @@ def _precision(mechanism, scene, params) -> str:
     except ImportError:
         return "<p class='note'>mechdyn.analyse.precision is not available in this version.</p>"
     table = work_precision(mechanism, scene, params, repeats=1)
-    rows = []
-    for r in table.rows:
-        head = (f"<td>{_e(r.method)}</td><td>{_e(r.backend)}</td>"
-                f"<td class='num'>{r.rtol:.0e}</td>")
-        if r.failed:
-            rows.append(f"<tr>{head}<td colspan='6' class='failed'>{_e(r.failure)}</td></tr>")
-            continue
-        event = max((e for _, e in r.event_errors), default=None)
-        cells = [f"{r.final_error:.1e}", f"{r.l2_error:.1e}",
-                 "—" if event is None else f"{event:.1e}", f"{r.time * 1e3:.2f}",
-                 str(r.nfev), str(r.steps)]
-        rows.append(f"<tr>{head}" + "".join(f"<td class='num'>{c}</td>" for c in cells)
-                    + "</tr>")
-    return (f"<p>Reference: {_e(table.reference.description)}. Errors are relative to each "
-            "state's largest magnitude; event errors relative to the run's duration; times "
-            "exclude compilation.</p><table><tr><th>method</th><th>backend</th><th>rtol</th>"
-            "<th>final "
-            "error</th><th>L2 error</th><th>event error</th><th>time [ms]</th><th>RHS "
-            "calls</th><th>steps</th></tr>" + "".join(rows) + "</table>"
-            + figure_html(table.plot(), "work-precision diagram"))
+    return ("<p>Errors are relative to each state's largest magnitude; event errors "
+            "relative to the run's duration; times exclude compilation.</p>"
+            + table.table().html() + figure_html(table.plot(), "work-precision diagram"))
 
 
 # ----------------------------------------------------------------------- pieces

@@ -158,19 +158,18 @@ def manifold_jacobian(compiled, t, y, p):
     ``[[0, I], [-M_r^-1 K_r, -M_r^-1 C_r]]``. (The full Jacobian adds spurious
     eigenvalues along the constraints; the terms from the curvature of the loops are
     left out, they do not make a linkage stiff.)"""
-    n = compiled.dof
-    y = np.asarray(y, dtype=float)
-    _, grads, _, _ = closure_parts(compiled, t, y, p)
+    n, m = compiled.dof, len(compiled.constraints)
+    grads = np.array(compiled.closure(t, y, p)[m:m + m * n]).reshape(m, n)
     independent = list(compiled.independent)
     dependent = [i for i in range(n) if i not in independent]
     k = len(independent)
     basis = np.zeros((n, k))
     basis[independent, range(k)] = 1.0
     basis[dependent] = -np.linalg.solve(grads[:, dependent], grads[:, independent])
-    v = np.asarray(compiled.linear_terms(t, y, p), dtype=float)
-    mass, f_q, f_u = (v[i * n * n:(i + 1) * n * n].reshape(n, n) for i in range(3))
-    f_q, f_u = f_q.T, f_u.T                     # generated column by column
-    reduced = basis.T @ mass @ basis
-    stiffness = np.linalg.solve(reduced, basis.T @ f_q @ basis)
-    damping = np.linalg.solve(reduced, basis.T @ f_u @ basis)
-    return np.block([[np.zeros((k, k)), np.eye(k)], [stiffness, damping]])
+    v = np.array(compiled.linear_terms(t, y, p)).reshape(3, n, n)
+    mass = v[0]                                 # df/dq, df/du: generated column by column
+    forces = np.hstack([basis.T @ v[1].T @ basis, basis.T @ v[2].T @ basis])
+    out = np.zeros((2 * k, 2 * k))
+    out[:k, k:] = np.eye(k)
+    out[k:] = np.linalg.solve(basis.T @ mass @ basis, forces)   # stiffness, damping
+    return out

@@ -27,17 +27,19 @@ class CompiledSegment:
 
     ``functions``: the scene's :func:`~mechdyn.compile.numba_model.numba_functions`; ``p`` the
     parameter vector; ``watched``: ``(index in events, direction, side while zero)``
-    per watched event, in the order the driver numbers them; the last ``drift`` of them
+    per watched event, in the order the driver numbers them (a side of +2/-2: that side
+    whatever the value at the start, :mod:`mechdyn.kernels.layout`); the last ``drift`` of them
     end the segment with status ``"drift"`` (the state left its constraints) when they
     fire alone; ``switch``: whether the kernel may report that the method no longer
     fits (stiff / not stiff); ``midpoint``: whether events are also sampled at each
     step's midpoint (on the interpolant, which may leave the loops' constraints further
-    than the steps do).
+    than the steps do); ``scratch``: the work arrays of the kernel's chunks, kept for the
+    next segment (:class:`mechdyn.kernels.Integration`).
     """
 
     def __init__(self, method, functions, p, t0, y0, t_bound, rtol, atol, segment,
                  watched=(), n_events=0, first_step=None, max_step=np.inf, switch=False,
-                 autonomous=False, drift=0, midpoint=True):
+                 autonomous=False, drift=0, midpoint=True, scratch=None):
         self.method, self.segment, self.t_bound = method, segment, t_bound
         self.events = len(watched) - drift       # the driver's watched events
         directions = np.full(n_events, IGNORED, dtype=np.int64)
@@ -49,7 +51,7 @@ class CompiledSegment:
                                directions=directions if n_events else (),
                                h0=first_step or 0.0, max_step=max_step,
                                autonomous=autonomous, detect_switch=switch,
-                               midpoint_events=midpoint)
+                               midpoint_events=midpoint, scratch=scratch)
         if n_events:                   # the side each event counts as while it is zero
             n = len(y0)
             self.run.carry[EVENTS_VALID] = 1.0
@@ -93,7 +95,8 @@ class CompiledSegment:
         if status == CHUNK_FULL:
             return Outcome("chunk", t, y)
         if status == EVENT:
-            fired = [k for k, index in enumerate(self.order) if chunk.fired[index] != 0]
+            signs = chunk.fired.tolist()
+            fired = [k for k, index in enumerate(self.order) if signs[index] != 0]
             if fired and fired[0] >= self.events:
                 return Outcome("drift", t, y)
             return Outcome("event", t, y, [k for k in fired if k < self.events])

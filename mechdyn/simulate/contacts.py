@@ -60,7 +60,7 @@ def jump(modes, t, y, mode, arrived, events):
     resting = {e for e in (mode.stuck if mode else ()) if e >= k}     # in contact before
     arriving = set(arrived) | (_touching_at_start(modes, view, y) if mode is None else set())
     touching = resting | arriving
-    rest = _AT_REST * (1.0 + float(np.max(np.abs(y[n:]), initial=0.0)))
+    rest = _AT_REST * (1.0 + float(np.abs(y[n:]).max(initial=0.0)))
     hitting = [e for e in sorted(arriving) if view.rates[e] < -rest]
     if mode is None:
         hitting += [j for j in range(k) if modes.kinds[j] == "one_way"
@@ -103,7 +103,7 @@ def jump(modes, t, y, mode, arrived, events):
 
 def _touching_at_start(modes, view, y) -> set:
     """The limits touched at the start of a run; a limit passed is an error."""
-    tolerance = _START * (1.0 + float(np.max(np.abs(y[:modes.n]), initial=0.0)))
+    tolerance = _START * (1.0 + float(np.abs(y[:modes.n]).max(initial=0.0)))
     out = set()
     for j, gap in enumerate(view.gaps):
         if gap < -tolerance:
@@ -122,7 +122,7 @@ def _targets(modes, t, y, view, mode, hitting, rest) -> dict:
     from mechdyn.simulate.friction import Mode
     restitution = view.terms["contact_restitution"]
     accelerations = modes.solve(view, mode or Mode()).a
-    height_floor = _HEIGHT * (1.0 + float(np.max(np.abs(y[:modes.n]), initial=0.0)))
+    height_floor = _HEIGHT * (1.0 + float(np.abs(y[:modes.n]).max(initial=0.0)))
     out = {}
     for e in hitting:
         e_value = float(restitution[e - modes.k]) if e >= modes.k else 0.0
@@ -144,7 +144,7 @@ def _impulse(view, u, rows, targets):
     rates and keeps the loops' speeds closed; returns it and the rows' impulses."""
     n = view.n
     loops = view.terms["constraint_gradient"].reshape(-1, n)
-    g = np.vstack([loops, view.gradients[rows].reshape(-1, n)])
+    g = np.concatenate([loops, view.gradients[rows].reshape(-1, n)])
     wanted = np.concatenate([-(loops @ u + view.terms["constraint_rate"]),
                              np.asarray(targets, dtype=float) - view.rates[rows]])
     m = len(g)

@@ -74,6 +74,12 @@ class Driver:
         self.max_step = self._max_step()
         self.loops = LoopWatch(compiled, scene.rtol)
         self.span = scene.time_limit - scene.t_start
+        self.scratch = {}             # the compiled chunks' work arrays, for every segment
+        if self.plan.active and compiled.constraints:
+            from mechdyn.compile.numba_model import loop_projection
+            self.modes.loop_projection = loop_projection(compiled)
+        self._switches = [i for i, (kind, _) in enumerate(compiled.event_kinds)
+                          if kind == "switch"]
 
     # ------------------------------------------------------------------ the run
     def run(self, y0) -> Result:
@@ -195,13 +201,14 @@ class Driver:
         held = run.hold_switching() if hold and self.auto else None
         while True:
             outcome = run.advance(min(_CHUNK[backend], hold) if held else _CHUNK[backend])
-            if held and run.counts["steps"] >= hold:
+            counts = run.counts
+            if held and counts["steps"] >= hold:
                 held = held()                  # the method may change again from here
             self.trajectory.changed()
-            counted = self._count(run.counts, counted, method, backend)
+            counted = self._count(counts, counted, method, backend)
             self._check_budget(outcome.t, run.h, method)
             self._report(outcome.t, t_end)
-            self._segment_steps = run.counts["steps"]
+            self._segment_steps = counts["steps"]
             if outcome.status == "chunk":
                 continue
             if outcome.status != "failed":
@@ -283,7 +290,7 @@ class Driver:
         """The side of each switching function at ``(t, y)``; one that is exactly zero
         takes the side it moves to (looked up a moment later along the motion); muted
         ones are unlocked (0)."""
-        switches = [i for i, (kind, _) in enumerate(self.c.event_kinds) if kind == "switch"]
+        switches = self._switches
         if not switches:
             return ()
         p = self.modes.p(mode)
@@ -317,6 +324,7 @@ class Driver:
         return method
 
     def _after_stiffness(self, t, method, mode):
+        self.plan.forget()
         if self.plan.stiff(method):
             return self._switch(t, method, self.plan.method(explicit_for(self.scene.rtol),
                                                               mode),
@@ -335,6 +343,7 @@ class Driver:
     def _after_failure(self, t, y, mode, method, message):
         """The next method to try after ``method`` failed at ``(t, y)``, or the error."""
         self._failed.append(method)
+        self.plan.forget()
         p = self.modes.p(mode)        # a failure at the edge of an expression's domain
         self._check_domains(t, y, p, start=self._domains, edge=_NEAR_EDGE)
         if self.auto:

@@ -103,7 +103,7 @@ class StateView:
 
     def tau_tolerance(self, i) -> float:
         """Mesh moments this small count as zero (a self-locking gear's corner)."""
-        return 1e-10 * (1.0 + float(np.max(np.abs(self.forcing), initial=0.0)))
+        return 1e-10 * (1.0 + float(np.abs(self.forcing).max(initial=0.0)))
 
 
 class FrictionModes:
@@ -128,6 +128,8 @@ class FrictionModes:
         self.gears = [tuple(g) for g in meta.get("gears", [])]
         self.frozen = list(compiled.frozen) + list(meta.get("contact_frozen", []))
         self.lines = {}                   # the gear lines last used: tried first
+        self._last_view = None            # (t, y, p) and the StateView there
+        self.loop_projection = None       # a compiled assembly.project, where loaded
 
     @property
     def size(self) -> int:
@@ -141,7 +143,16 @@ class FrictionModes:
             list(mode.flags or [0.0] * self.c.flags) + self.factor
 
     def view(self, t, y, mode) -> StateView:
-        return StateView(self, self.c.terms(t, y, self.p(mode)))
+        """The :class:`StateView` at ``(t, y)`` in ``mode``; the last one is kept (an
+        event's impact, mode decision and gap offsets look at the same state)."""
+        p = self.p(mode)
+        key = (float(t), np.asarray(y, dtype=float).tobytes(), tuple(p))
+        last = self._last_view
+        if last is not None and last[0] == key:
+            return last[1]
+        view = StateView(self, self.c.terms(t, y, p))
+        self._last_view = (key, view)
+        return view
 
     def solve(self, view, mode):
         """The constrained equations of a mode (:func:`mechdyn.simulate.constrained.solve`)."""
@@ -162,7 +173,7 @@ class FrictionModes:
             return Mode(flags=flags)
         events = events if events is not None else []
         view = self.view(t, y, Mode(flags=flags))
-        rest = _AT_REST * (1.0 + float(np.max(np.abs(y[self.n:]), initial=0.0)))
+        rest = _AT_REST * (1.0 + float(np.abs(y[self.n:]).max(initial=0.0)))
         signs, free, candidates = [0.0] * self.k, set(), []
         for k in range(self.k):
             kind, rate = self.kinds[k], view.rates[k]
@@ -215,16 +226,19 @@ class FrictionModes:
 
     def _reduced(self, view):
         """The gradients on the motions the closed loops allow."""
+        if not len(view.terms["constraint_gradient"]):
+            return view.gradients                     # no loops: every motion
         return view.gradients @ allowed_motions(view.terms["constraint_gradient"], self.n)
 
     def _holdable(self, view, candidates) -> list:
         """The candidates whose constraint can act: ``G M^-1 G'`` not negligible, on the
         motions the closed loops allow (mass and gradient reduced to them)."""
-        basis = allowed_motions(view.terms["constraint_gradient"], self.n)
-        mass = basis.T @ view.mass @ basis
+        loops = len(view.terms["constraint_gradient"])
+        basis = allowed_motions(view.terms["constraint_gradient"], self.n) if loops else None
+        mass = basis.T @ view.mass @ basis if loops else view.mass
         held = []
         for k in candidates:
-            g = view.gradients[k] @ basis
+            g = view.gradients[k] @ basis if loops else view.gradients[k]
             weight = float(g @ np.linalg.solve(mass, g))
             scale = float(g @ g) / max(float(np.max(np.abs(np.diag(mass)))), 1e-300)
             if weight > _CANNOT_HOLD * scale and weight > 0:
@@ -293,7 +307,9 @@ class FrictionModes:
         changes the kinetic energy least (speeds projected with the mass matrix); with
         loops, by the least change that keeps the loops' speeds closed."""
         y = np.array(y, dtype=float)
-        if self.c.constraints:
+        if self.c.constraints and self.loop_projection is not None:
+            y = self.loop_projection(t, y, self.p(mode))
+        elif self.c.constraints:
             from mechdyn.simulate.assembly import project
             y = project(self.c, t, y, self.p(mode))
         if not mode.groups:

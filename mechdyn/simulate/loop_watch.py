@@ -27,6 +27,8 @@ error says how far short of the singular position they end.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from mechdyn.compile.loop_numeric import LOOP_MARGIN, LoopSingularError, rank_margin
@@ -50,8 +52,8 @@ class LoopWatch:
         allows (``rtol`` times the loops' size)."""
         from mechdyn.simulate.assembly import closure_parts
         _, grads, _, _ = closure_parts(self.c, 0.0, y0, p)
-        size = float(np.max(np.abs(grads)))
-        speed_scale = 1.0 + float(np.max(np.abs(y0[self.c.dof:])))
+        size = float(np.abs(grads).max())
+        speed_scale = 1.0 + float(np.abs(y0[self.c.dof:]).max())
         return self.rtol * size, self.rtol * size * speed_scale
 
     def margin_limits(self) -> tuple:
@@ -97,20 +99,23 @@ class LoopWatch:
         (the largest, falling through zero from its side), or None without loops."""
         if not self.c.constraints:
             return None
-        minors = np.asarray(self.c.loop_minors(t, y, p))
-        k = int(np.argmax(np.abs(minors)))
+        minors = self.c.loop_minors(t, y, p)            # a short list: plain Python
+        sizes = [abs(v) for v in minors]
+        k = sizes.index(max(sizes))
         if self.scale is None:
-            self.scale = abs(minors[k])
-        self.check_singular(t, y, p)
-        return k, -float(np.sign(minors[k]) or 1.0)
+            self.scale = sizes[k]
+        self.check_singular(t, y, p, minors)
+        return k, -1.0 if minors[k] >= 0 else 1.0    # falling from its side (0: +)
 
-    def check_singular(self, t, y, p):
-        """Raise :class:`LoopSingularError` where every minor of ``G`` is below
-        ``LOOP_MARGIN`` times its size at the start."""
+    def check_singular(self, t, y, p, minors=None):
+        """Raise :class:`LoopSingularError` where every minor of ``G`` (``minors``,
+        where already evaluated at ``(t, y)``) is below ``LOOP_MARGIN`` times its size at
+        the start."""
         if not self.c.constraints or self.scale is None:
             return
-        minors = np.abs(np.asarray(self.c.loop_minors(t, y, p)))
-        if not np.all(np.isfinite(minors)) or minors.max() < LOOP_MARGIN * self.scale:
+        sizes = [abs(v) for v in (self.c.loop_minors(t, y, p) if minors is None
+                                  else minors)]
+        if not all(map(math.isfinite, sizes)) or max(sizes) < LOOP_MARGIN * self.scale:
             from mechdyn.simulate.assembly import _independent_text
             raise LoopSingularError(self._weakest(t, y, p), t, y,
                                     f" ({_independent_text(self.c, y)})")

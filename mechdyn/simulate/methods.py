@@ -31,7 +31,7 @@ from mechdyn.simulate.spectrum import measures, spectral_radius
 __all__ = ["choose_method", "explicit_for", "stiff_for", "STIFF", "StiffnessMonitor",
            "fallbacks", "STABILITY_LIMIT", "STIFF_RTOL_FLOOR", "segment_tolerances",
            "motion_jacobian", "backend_plan", "BackendPlan", "BACKENDS", "KERNEL_ONLY",
-           "uses_kernels", "has_modes", "closed_loops", "compiled_functions",
+           "uses_kernels", "has_modes", "compiled_functions",
            "mode_compilable"]
 
 STIFF = "Radau"
@@ -41,6 +41,7 @@ COMPARED = ("RK45", "DOP853", "LSODA", "Radau", "BDF")     # a precision report'
 COMPARED_RTOLS = (1e-4, 1e-6, 1e-8, 1e-10)                # ... and tolerances
 KERNEL_ONLY = ("Rodas5P",)                 # methods only the compiled kernels have
 _KERNEL = ("DOP853", "Rodas5P")            # methods the compiled kernels have
+REMEASURE = 16             # segments of a mode per measurement of its stiffness (choose)
 _STIFFNESS_LIMIT = 2000.0   # explicit steps forced by stability alone before it is stiff
 # Where the stability region of each explicit method crosses the negative real axis.
 STABILITY_LIMIT = {"DOP853": 6.0, "RK45": 3.3, "RK23": 2.5}
@@ -151,21 +152,10 @@ def fallbacks(method, rtol, compiled=False) -> list:
     return [m for m in ladder if m != method]
 
 
-def closed_loops(compiled) -> bool:
-    """Whether a scene has closed loops (a lossy gear's own constraint row is none).
-    Their segments run on scipy: the compiled drift watch leaves the global error near
-    1e-9 at tight tolerances, where scipy's per-step projection keeps falling with the
-    tolerance."""
-    meshes = {gear[2] for gear in compiled.meta.get("gears", [])}
-    return any(i not in meshes for i in range(len(compiled.constraints)))
-
-
 def mode_compilable(compiled, mode) -> bool:
-    """Whether a segment with ``mode`` has a compiled form: not on closed loops
-    (:func:`closed_loops`), nor where a lossy gear is stuck together with other elements
-    (the share of their holding force is a linear programme, solved on scipy)."""
-    if closed_loops(compiled):
-        return False
+    """Whether a segment with ``mode`` has a compiled form: not where a lossy gear is
+    stuck together with other elements (the share of their holding force is a linear
+    programme, solved on scipy)."""
     kinds = compiled.meta.get("friction_kinds", [])
     return not any(len(group) > 1 and any(k < len(kinds) and kinds[k] == "gear"
                                           for k, _ in group) for group in mode.groups)
@@ -174,11 +164,9 @@ def mode_compilable(compiled, mode) -> bool:
 def has_modes(compiled) -> bool:
     """Whether a scene's segments run on its mode functions
     (:mod:`mechdyn.compile.mode_code`) rather than its plain ``rhs``: friction elements
-    (which may stick), stop limits (whose gaps are watched from an offset) or lossy
-    gears. Not a scene with closed loops: its segments run on scipy, so its mode
-    module (seconds of numba) is not compiled."""
-    return bool(compiled.frictions or compiled.meta.get("contacts")
-                or compiled.constraints) and not closed_loops(compiled)
+    (which may stick), stop limits (whose gaps are watched from an offset), lossy gears
+    or closed loops (their drift and singular positions watched)."""
+    return bool(compiled.frictions or compiled.meta.get("contacts") or compiled.constraints)
 
 
 def uses_kernels(compiled, method) -> bool:
@@ -239,6 +227,7 @@ class BackendPlan:
         self.c, self.named, self.option = compiled, method, option
         self.functions = None
         self.why = ""
+        self.measured = {}       # mode -> (t measured, segments since): see choose
         if option == "auto" and uses_kernels(compiled, method):
             self.load()
 
@@ -255,7 +244,7 @@ class BackendPlan:
         return self.functions is not None
 
     def compilable(self, mode) -> bool:
-        return mode_compilable(self.c, mode)
+        return not mode.groups or mode_compilable(self.c, mode)
 
     def method(self, name, mode) -> str:
         """The method a segment runs for a requested one: the kernels' own where they
@@ -289,9 +278,36 @@ class BackendPlan:
         return method in (STIFF, "BDF", "LSODA", "Rodas5P")
 
     def choose(self, p, mode, t, y, scene) -> str:
-        """The method of a segment starting at ``(t, y)`` (sets ``why``)."""
+        """The method of a segment starting at ``(t, y)`` (sets ``why``). A mode whose
+        start was measured free of stiff modes keeps the explicit method for its next
+        ``REMEASURE - 1`` segments without measuring again, where the compiled kernel's
+        stiffness test watches them (nothing stuck): a stiff stretch ends such a
+        segment with status "stiff", and :meth:`forget` drops what was measured."""
         if self.named != "auto":
             self.why = "named in the scene"
             return self.method(self.named, mode)
+        explicit = explicit_for(scene.rtol)
+        key = self._guarded(mode)
+        known = self.measured.get(key) if key is not None else None
+        if known is not None and known[1] < REMEASURE:
+            self.measured[key] = (known[0], known[1] + 1)
+            self.why = (f"no stiff modes (measured at t = {known[0]:.6g} s in this mode; "
+                        "the kernel's stiffness test watches the segment)")
+            return self.method(explicit, mode)
         name, self.why = choose_method(self.c, p, y, t, scene.time_limit, scene.rtol)
+        if key is not None and name == explicit and self.why == "no stiff modes":
+            self.measured[key] = (float(t), 1)
+        elif key is not None:
+            self.measured.pop(key, None)
         return self.method(name, mode)
+
+    def forget(self):
+        """Measure every mode again (the kernel found a segment stiff, or it failed)."""
+        self.measured.clear()
+
+    def _guarded(self, mode):
+        """The key under which a mode's measurement is kept, None where its segments
+        would run without the kernel's stiffness test (on scipy, or something stuck)."""
+        if mode.groups or not self.active:
+            return None
+        return (mode.signs, mode.free, mode.flags)

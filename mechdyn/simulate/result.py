@@ -11,21 +11,21 @@
 """
 from __future__ import annotations
 
-import csv
 from functools import cached_property
 
 import numpy as np
 
-from mechdyn.errors import MechdynError, SimulationError
+from mechdyn.errors import SimulationError
 from mechdyn.simulate.events import Event
 from mechdyn.simulate.mode_outputs import run_time_outputs
+from mechdyn.simulate.series import SeriesResult
 from mechdyn.simulate.trajectory import Trajectory
 from mechdyn.tabular import JUPYTER_STYLE, Table, escape
 
 __all__ = ["Result", "Event", "Trajectory"]
 
 
-class Result:
+class Result(SeriesResult):
     """What a simulation computed.
 
     ``t`` (step times), ``y`` (states, one row per state), ``res[q]``, ``res[md.speed(q)]``,
@@ -105,21 +105,11 @@ class Result:
             return self.accelerations[which]
         return self.outputs[which]
 
-    def final(self, key) -> float:
-        """The last value of a coordinate, speed, acceleration or output."""
-        return float(self[key][-1])
-
-    def at(self, times, key=None):
-        """Dense evaluation at ``times``: a dict of all states, or one state's values."""
-        states = self.trajectory.at(times)
-        scalar = np.ndim(times) == 0
-        if key is None:
-            return {name: (row[0] if scalar else row)
-                    for name, row in zip(self.state_names, states)}
+    def _state_row(self, key) -> int:
         kind, which = self._index(key)
         if kind != "state":
             raise KeyError(f"at(): only coordinates and speeds are interpolated, not {key}")
-        return states[which][0] if scalar else states[which]
+        return which
 
     # ---------------------------------------------------------- derived arrays
     def _each_point(self, evaluate, t=None, y=None, owner=None):
@@ -222,45 +212,10 @@ class Result:
         data.update(outputs)
         return data
 
-    def sample_times(self, sample) -> np.ndarray:
-        """``t_0, t_0 + sample, ...`` up to the end of the run (and the end itself)."""
-        return sample_times(float(self.t[0]), float(self.t[-1]), sample)
-
     @property
     def output_labels(self) -> list:
         """The labels of the requested outputs."""
         return list(self.compiled.output_labels)
-
-    def to_csv(self, path, sample=None, units=None):
-        """Write one column per series and a header row of names: the step points, or
-        every ``sample`` seconds. ``units`` (``{"speed": "rpm"}``, see
-        :class:`mechdyn.display.Display`) converts columns and names their units in
-        the header (``phidot [rpm]``)."""
-        data = self.columns(sample)
-        if units is not None:
-            from mechdyn.display import Display, column_units
-            shown, si = Display(units), column_units(self)
-            shown.check(si)
-            converted = {}
-            for name, values in data.items():
-                values, unit = shown.values(name, si.get(name, ""), values)
-                converted[f"{name} [{unit}]" if unit else name] = values
-            data = converted
-        from mechdyn.atomic import replacing
-        with replacing(path, "w", newline="") as handle:
-            writer = csv.writer(handle)
-            writer.writerow(list(data))
-            for row in zip(*data.values()):
-                writer.writerow([repr(float(v)) for v in row])
-        return path
-
-    def to_pandas(self):
-        """The columns as a ``pandas.DataFrame`` (needs pandas)."""
-        try:
-            import pandas
-        except ImportError:
-            raise MechdynError("to_pandas() needs pandas: pip install pandas") from None
-        return pandas.DataFrame(self.columns())
 
     def peak(self, key, samples=8) -> tuple:
         """``(time, value)`` of the largest magnitude of a state or output over the run,
@@ -380,20 +335,3 @@ def _value_row(label, values, unit) -> list:
     finite = values[np.isfinite(values)]          # a partial result's end may have none
     peak = finite[abs(finite).argmax()] if len(finite) else float("nan")
     return [label, float(values[0]), float(values[-1]), float(peak), unit]
-
-
-def sample_times(first, last, sample) -> np.ndarray:
-    """``first, first + sample, ...`` up to ``last`` (and ``last`` itself)."""
-    sample = float(sample)
-    if not sample > 0 or not np.isfinite(sample):
-        raise MechdynError(f"sample = {sample}: give a positive time step")
-    count = int(np.floor((last - first) / sample * (1 + 1e-12))) + 1
-    if count > 10_000_000:
-        raise MechdynError(f"sample = {sample} s gives {count} rows over "
-                           f"{last - first:.6g} s; choose a larger step")
-    steps = np.arange(count)
-    per_second = round(1 / sample)          # 0.001 s: t = k / 1000, exactly rounded
-    times = first + (steps / per_second if per_second and
-                     abs(1 / sample - per_second) <= 1e-9 * per_second else steps * sample)
-    return times if last - times[-1] <= 1e-9 * max(sample, abs(last)) else \
-        np.append(times, last)

@@ -63,13 +63,15 @@ def check_scales(compiled, terms, t, y, name):
     inverse size): such a run fails in the solvers' linear algebra or ends with a wrong
     answer; other units cure it. (Small forces and states are harmless.)"""
     parts = [(_SCALED[key], np.ravel(terms[key])) for key in _SCALED if key in terms]
-    parts.append((f"the initial state ({state_text(compiled, y)})", np.ravel(y)))
+    parts.append(("the initial state", np.ravel(y)))
     parts.append(("the start time t", np.array([t])))
     for what, values in parts:
         sizes = np.abs(values[np.isfinite(values) & (values != 0)])
         tiny = what == _SCALED["mass"] and len(sizes) and sizes.max() < 1 / COMFORT
         if len(sizes) and (sizes.max() > COMFORT or tiny):
             worst = sizes.max()
+            if what == "the initial state":
+                what += f" ({state_text(compiled, y)})"
             raise SimulationError(
                 f"scene {name!r}: a value of magnitude {worst:.3g} in {what} at the start "
                 f"lies far outside the range floating-point arithmetic handles safely "

@@ -56,30 +56,41 @@ def watched_events(modes, scene, mode, muted, t0, y0, minor=None) -> list:
     ``modes`` (:class:`~mechdyn.simulate.friction.FrictionModes`), and the closed loops' ``minor``
     (``(index, direction)`` or None)."""
     compiled = modes.c
-    kinds = compiled.event_kinds
-    stops = [i for i, (kind, _) in enumerate(kinds) if kind == "stop"]
-    switches = [i for i, (kind, _) in enumerate(kinds) if kind == "switch"]
-    rates = [i for i, (kind, _) in enumerate(kinds) if kind == "rate"]
-    magnitudes = [i for i, (kind, _) in enumerate(kinds) if kind == "magnitude"]
-    timed = set(compiled.meta.get("timed", ()))
+    index = _event_index(modes)
+    timed = index["timed"]
     out = [Watched("stop", i, j, int(c.direction), 0, timed=i in timed)
-           for j, (i, c) in enumerate(zip(stops, scene.until))]
-    for j, i in enumerate(switches):
+           for j, (i, c) in enumerate(zip(index["stop"], scene.until))]
+    for j, i in enumerate(index["switch"]):
         if i not in muted:
             out.append(Watched("switch", i, -1, 0, int(mode.flags[j]), timed=i in timed))
+    rates = index["rate"]
     for k, sign in enumerate(mode.signs):           # zero counts as the sliding side
         if sign != 0:
             out.append(Watched("stick", rates[k], k, int(-sign), int(sign)))
     out += [Watched("release", g, -1, -1, 1) for g in range(len(mode.groups))]
-    out += [Watched("domain", i, j, -1, 1) for j, i in enumerate(
-        i for i, (kind, _) in enumerate(kinds) if kind == "domain")]
-    out += [Watched("engage", magnitudes[k], k, 1, -1) for k in sorted(mode.free)]
-    gaps = [i for i, (kind, _) in enumerate(kinds) if kind == "gap"]
-    out += [Watched("gap", gaps[j], j, -1, 1, offset)
-            for kind, j, _, offset in modes.watched(mode, t0, y0) if kind == "gap"]
+    out += [Watched("domain", i, j, -1, 1) for j, i in enumerate(index["domain"])]
+    out += [Watched("engage", index["magnitude"][k], k, 1, -1) for k in sorted(mode.free)]
+    if index["gap"]:
+        gaps = index["gap"]
+        out += [Watched("gap", gaps[j], j, -1, 1, offset)
+                for kind, j, _, offset in modes.watched(mode, t0, y0) if kind == "gap"]
     if minor is not None:
         out.append(Watched("minor", minor[0], -1, int(minor[1]), 0))
     return out
+
+
+def _event_index(modes) -> dict:
+    """The entries of the scene's ``events`` by kind, and the timed ones (a set),
+    found once per run (kept on ``modes``)."""
+    index = getattr(modes, "event_index", None)
+    if index is None:
+        index = {kind: [] for kind in ("stop", "switch", "rate", "magnitude", "domain",
+                                       "gap")}
+        for i, (kind, _) in enumerate(modes.c.event_kinds):
+            index.setdefault(kind, []).append(i)
+        index["timed"] = set(modes.c.meta.get("timed", ()))
+        modes.event_index = index
+    return index
 
 
 def scipy_runner(context, mode, method, t0, y0, t_end, h, watched, rtol, atol, monitor,
@@ -114,7 +125,9 @@ def compiled_runner(context, functions, mode, method, t0, y0, t_end, h, watched,
     they end the segment with status "drift", for the rank check and a projection).
     As on scipy, a segment with loops and nothing stuck samples its events at the step
     ends only: the drift is the steps', not the interpolant's. Events of t alone are
-    ignored: the driver ends the segment at them."""
+    ignored: the driver ends the segment at them. A switching function is watched from
+    the side its flag locks whatever its value at the start (a projection onto the
+    loops may have nudged it back across zero), as on scipy."""
     from mechdyn.compile.mode_code import mode_vector
     from mechdyn.kernels.layout import IGNORED
     from mechdyn.simulate.compiled_stepping import CompiledSegment
@@ -136,13 +149,15 @@ def compiled_runner(context, functions, mode, method, t0, y0, t_end, h, watched,
     def entry(w):
         return size + w.index if w.kind == "release" else groups if w.kind == "minor" \
             else w.index
-    spec = [(entry(w), IGNORED if w.timed else w.direction, w.side) for w in watched]
+    spec = [(entry(w), IGNORED if w.timed else w.direction,
+             2 * w.side if w.kind == "switch" else w.side) for w in watched]
     return CompiledSegment(method, functions, p, t0, y0, t_end, rtol, atol, segment,
                            spec + extra, groups + (4 if minor is not None else 0),
                            first_step=h, max_step=max_step, drift=len(extra),
                            midpoint=bool(mode.groups) or not c.constraints,
                            switch=switch and not mode.groups,
-                           autonomous=c.meta.get("autonomous", False))
+                           autonomous=c.meta.get("autonomous", False),
+                           scratch=context.scratch)
 
 
 def _event_watch(c, modes, mode, p, watched):

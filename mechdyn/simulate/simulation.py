@@ -24,8 +24,6 @@ its multipliers (:meth:`_Run.loop_multipliers`).
 """
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import sympy as sp
 
@@ -38,9 +36,10 @@ from mechdyn.declare.parameters import ParameterSet
 from mechdyn.simulate.result import Result
 from mechdyn.declare.scene import DEFAULT_ATOL, Scene
 from mechdyn.simulate.stepping import METHODS
+from mechdyn.units import finite
 
-__all__ = ["simulate", "initial_state", "given_initial", "atol_vector", "choose_method",
-           "METHODS"]
+__all__ = ["simulate", "initial_state", "given_initial", "atol_vector", "check_method",
+           "choose_method", "METHODS"]
 
 
 def simulate(mechanism, scene: Scene, params: dict, *, progress=None, max_steps=None,
@@ -56,11 +55,16 @@ def simulate(mechanism, scene: Scene, params: dict, *, progress=None, max_steps=
     """
     if not isinstance(scene, Scene):
         raise SceneError(f"simulate() needs a md.Scene, got {scene!r}")
+    values, kept = checked_values(mechanism, scene, params)      # before any compiling
     compiled = compile_scene(mechanism, scene)
-    values = ParameterSet(params, mechanism=mechanism, scene=scene)
-    base = values.vector(compiled.param_names)
+    if kept.get("compiled") is not compiled:
+        kept.clear()
+        kept.update(compiled=compiled, base=values.vector(compiled.param_names))
+    base = list(kept["base"])
     if start is None:
-        y0 = initial_state(compiled, mechanism, scene, values.numbers)
+        if "y0" not in kept:
+            kept["y0"] = initial_state(compiled, mechanism, scene, values.numbers)
+        y0 = kept["y0"].copy()
     else:
         from mechdyn.declare.scene_units import check_given
         check_given(mechanism, scene)                 # its stop values' units
@@ -70,10 +74,7 @@ def simulate(mechanism, scene: Scene, params: dict, *, progress=None, max_steps=
                              f"finite values ({', '.join(compiled.state_names)}), got "
                              f"{list(start)!r}")
     atol = atol_vector(compiled, mechanism, scene)
-    if scene.method != "auto" and scene.method not in (*METHODS, *KERNEL_ONLY):
-        raise SceneError(f"scene {scene.name!r}: unknown method {scene.method!r}"
-                         f"{did_you_mean(scene.method, (*METHODS, *KERNEL_ONLY))}; "
-                         f"use 'auto' or one of {', '.join((*METHODS, *KERNEL_ONLY))}")
+    check_method(scene)
     budget = Budget(scene.max_steps if max_steps is None else max_steps,
                     scene.max_wall_time if max_wall_time is None else max_wall_time)
     driver = Driver(compiled, base, scene, atol, mechanism, budget, progress, backend)
@@ -84,6 +85,24 @@ def simulate(mechanism, scene: Scene, params: dict, *, progress=None, max_steps=
             label_units(error.partial, mechanism, scene)
         raise
     return label_units(result, mechanism, scene)
+
+
+def checked_values(mechanism, scene, params) -> tuple:
+    """The :class:`ParameterSet` of a run and a dict for what follows from it (the
+    parameter vector, the assembled initial state), remembered per scene and parameter
+    values: a session's next run with the same values skips the checks and the loops'
+    assembly (the mechanism's memo is cleared by any change to the mechanism)."""
+    try:
+        key = tuple((k, type(v), repr(v) if type(v) is float else v) for k, v in params.items())
+        hash(key)
+    except (AttributeError, TypeError):                   # unhashable values: not kept
+        return ParameterSet(params, mechanism=mechanism, scene=scene), {}
+    hit = mechanism._memo.get(("values", id(scene)))
+    if hit is not None and hit[0] is scene and hit[1] == key:
+        return hit[2], hit[3]
+    values = ParameterSet(params, mechanism=mechanism, scene=scene)
+    mechanism._memo[("values", id(scene))] = (scene, key, values, {})
+    return values, mechanism._memo[("values", id(scene))][3]
 
 
 def label_units(result, mechanism, scene):
@@ -122,14 +141,9 @@ def given_initial(compiled, mechanism, scene, params) -> dict:
                 raise SceneError(f"scene {scene.name!r}: initial value of {key} = {value} has "
                                  f"no number (unknown: {sorted(map(str, expr.free_symbols))})")
             value = expr
-        try:
-            number = float(value)
-        except (TypeError, ValueError):
-            raise SceneError(f"scene {scene.name!r}: initial value of {key} = {value!r} is "
-                             "not a number") from None
-        if not math.isfinite(number):
-            raise SceneError(f"scene {scene.name!r}: initial value of {key} is not finite")
-        given[slots[slot]] = number
+        what = f"scene {scene.name!r}: initial value of {key}"
+        given[slots[slot]] = finite(value, SceneError, f"{what} = {value!r} is not a number",
+                                    f"{what} is not finite")
     return given
 
 
@@ -177,6 +191,14 @@ def _initial_slot(key, declared, scene, what="initial value"):
         return ("u", key.expr.func.__name__)
     raise SceneError(f"scene {scene.name!r}: {what} given for {key}, which is not a "
                      f"declared coordinate or its speed (coordinates: {sorted(declared)})")
+
+
+def check_method(scene):
+    """Refuse a scene whose method is not ``"auto"`` or one of the known ones."""
+    if scene.method != "auto" and scene.method not in (*METHODS, *KERNEL_ONLY):
+        raise SceneError(f"scene {scene.name!r}: unknown method {scene.method!r}"
+                         f"{did_you_mean(scene.method, (*METHODS, *KERNEL_ONLY))}; "
+                         f"use 'auto' or one of {', '.join((*METHODS, *KERNEL_ONLY))}")
 
 
 def atol_vector(compiled, mechanism, scene):

@@ -41,8 +41,19 @@ def time_events(compiled, p, y0, t_start, t_end, periods):
     def values(t):
         out = [0.0] * len(timed)
         raw(t, y0, p, out)
-        return np.array(out)
-    return TimeEvents(values, t_start, t_end, periods, timed)
+        return out
+    key = (compiled.key, tuple(p), float(t_start), float(t_end), tuple(periods))
+    signs, crossings = _SAMPLED.get(key, (None, {}))
+    events = TimeEvents(values, t_start, t_end, periods, timed, signs=signs)
+    events.crossings = crossings
+    if len(_SAMPLED) >= 64:
+        _SAMPLED.clear()
+    _SAMPLED[key] = (events.signs, crossings)
+    return events
+
+
+_SAMPLED: dict = {}  # (scene, p, span, periods) -> the signs on the grid and the crossings
+                     # located: every run of a scene with these values finds the same
 
 
 class TimeEvents:
@@ -50,13 +61,15 @@ class TimeEvents:
     ``[t_start, t_end]``; ``periods``: the periods that set the grid spacing;
     ``indices``: the entries of the scene's ``events`` function they are."""
 
-    def __init__(self, values, t_start, t_end, periods=(), indices=()):
+    def __init__(self, values, t_start, t_end, periods=(), indices=(), signs=None):
         self.values, self.indices = values, list(indices)
         span = max(t_end - t_start, 0.0)
         spacing = min([span / GRID] + [p / PER_PERIOD for p in periods if p > 0])
         points = int(min(np.ceil(span / spacing), _MAX_POINTS)) if spacing > 0 else 1
         self.grid = np.linspace(t_start, t_end, points + 1)
-        self.signs = np.sign(np.array([values(t) for t in self.grid]))
+        self.signs = signs if signs is not None else \
+            np.sign(np.array([values(t) for t in self.grid], dtype=float))
+        self.crossings = {}     # the crossings located, by bracket, side and direction
 
     def next(self, t0, watched):
         """The earliest crossing after ``t0`` of the functions ``watched``: ``(position,
@@ -87,12 +100,19 @@ class TimeEvents:
         def g(t):
             return float(self.values(t)[position])
         side = side or np.sign(g(t0))
-        t_old = t0
-        for k in range(np.searchsorted(self.grid, t0, side="right"), len(self.grid)):
-            s = self.signs[k, position]
-            if s == 0:
-                continue
-            if side != 0 and s != side and direction in (0, s):
-                return float(locate(g, t_old, self.grid[k], side, False, direction))
-            side, t_old = s, self.grid[k]
-        return np.inf
+        first = np.searchsorted(self.grid, t0, side="right")
+        column = self.signs[first:, position]
+        nonzero = np.flatnonzero(column)            # the grid points with a side
+        sides = column[nonzero]
+        before = np.concatenate([[side], sides[:-1]])
+        crossed = (before != 0) & (sides != before) & ((direction == 0) | (sides == direction))
+        if not crossed.any():
+            return np.inf
+        j = int(np.argmax(crossed))
+        t_old = t0 if j == 0 else self.grid[first + nonzero[j - 1]]
+        bracket = (position, float(t_old), int(first + nonzero[j]), float(before[j]),
+                   direction)
+        if bracket not in self.crossings:
+            self.crossings[bracket] = float(locate(g, t_old, self.grid[first + nonzero[j]],
+                                                   before[j], False, direction))
+        return self.crossings[bracket]

@@ -21,6 +21,7 @@ from mechdyn.declare.elements import Constraint, Load
 from mechdyn.declare.output_units import output_units
 from mechdyn.declare.parameters import ParameterSet
 from mechdyn.declare.scene import Scene
+from mechdyn.derive.selection import select
 from mechdyn.report.fmu.build import FmuError, build_fmu, find_compiler
 from mechdyn.report.fmu.c_code import FmuExpressionError
 from mechdyn.report.fmu.description import Variable, model_description, unit_of
@@ -42,15 +43,15 @@ def export_fmu(mechanism, scene, params, path, inputs=(), start=None) -> Path:
     path = _checked_path(path)
     if not isinstance(scene, Scene):
         raise FmuError(f"export_fmu() needs a md.Scene, got {scene!r}")
+    values = ParameterSet(params, mechanism=mechanism, scene=scene)   # before any work
     find_compiler()                                  # say so before deriving anything
     eqs = mechanism.equations(scene)
     _refuse_switching_elements(eqs, scene, mechanism.elements)
     try:
-        code = model_code(eqs, scene, mechanism.elements)
+        code = model_code(eqs, select(mechanism, scene))
     except FmuExpressionError as error:
         raise FmuError(f"scene {scene.name!r}: {error}") from None
     names = [s.name for s in code.parameters]
-    values = ParameterSet(params, mechanism=mechanism, scene=scene)
     p = values.vector(names)
     marked = _inputs(inputs, names, mechanism, scene)
     y0 = _initial_state(mechanism, scene, values, start)

@@ -47,11 +47,13 @@ class ModelCode:
         return len(self.coordinates)
 
 
-def model_code(eqs, scene, elements) -> ModelCode:
-    """The C of ``scene``'s equations ``eqs`` (``elements``: the mechanism's, by name)."""
+def model_code(eqs, selected) -> ModelCode:
+    """The C of a scene's equations ``eqs`` (``selected``: the scene's
+    :class:`~mechdyn.derive.selection.Selection`, its outputs and stop conditions)."""
     n = eqs.dof
-    outputs = scene_outputs(eqs, scene, elements)
-    stops = [(repr(c), c.direction, eqs.to_plain(c.expression - c.value)) for c in scene.until]
+    outputs = scene_outputs(eqs, selected)
+    stops = [(repr(c), c.direction, eqs.to_plain(c.expression - c.value))
+             for c in selected.until]
     switches = Switches(set(eqs.q) | set(eqs.u) | {t})
     mass = switches.lock(eqs.mass_matrix)
     forcing = switches.lock(eqs.smooth_forcing)
