@@ -187,6 +187,18 @@ def test_a_tiny_inertia_stops_at_the_right_time_and_at_rest(inertia, capsys, mon
     assert res.final(phi) == pytest.approx(100 * res.t_end / 2, rel=1e-9)
 
 
+def test_caching_off_compiles_in_memory_and_writes_no_files(tmp_path, monkeypatch):
+    """MECHDYN_CACHE=off: the compiled run writes nothing, not even a temporary folder."""
+    import tempfile
+    monkeypatch.setenv("MECHDYN_CACHE", "off")
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
+    model = md.load_model(BRAKE)
+    res = model.mechanism.simulate(model.scene("braking"), model.params)
+    assert set(res.stats["backends"]) == {"compiled"}
+    assert res.t_end == pytest.approx(50.0, rel=1e-9)           # worked example 1: 50 s
+    assert list(tmp_path.iterdir()) == []
+
+
 @pytest.mark.parametrize("value, culprit", [("P=1e200", "a friction magnitude"),
                                              ("I=1e250", "the mass matrix"),
                                              ("I=1e-170", "the mass matrix")])

@@ -31,7 +31,6 @@ import importlib.util
 import math
 import shutil
 import sys
-import tempfile
 from contextlib import suppress
 from pathlib import Path
 from types import SimpleNamespace
@@ -197,8 +196,8 @@ def _module_text(sources, names) -> str:
 def _load(key, text):
     """The compiled module of ``text`` (its functions as attributes)."""
     directory = cache.cache_dir()
-    if directory is None:
-        return _import(Path(tempfile.mkdtemp(prefix="mechdyn-numba-")), key, text)
+    if directory is None:               # caching off: nothing written, not even to /tmp
+        return _in_memory(key, text)
     try:
         return _load_cached(directory, key, text)
     except OSError:             # a full or size-limited disk: compiled in memory instead
@@ -206,10 +205,15 @@ def _load(key, text):
         with suppress(OSError):
             (directory / "numba" / f"{key}.lock").unlink()
             (directory / "numba").rmdir()                  # if nothing else is in it
-        namespace = {"__name__": f"mechdyn_model_{key}"}
-        exec(compile(text.replace("cache=True", "cache=False"), f"<mechdyn model {key}>",
-                     "exec"), namespace)
-        return SimpleNamespace(**namespace)
+        return _in_memory(key, text)
+
+
+def _in_memory(key, text):
+    """The module of ``text`` compiled in this process only (numba's cache off)."""
+    namespace = {"__name__": f"mechdyn_model_{key}"}
+    exec(compile(text.replace("cache=True", "cache=False"), f"<mechdyn model {key}>",
+                 "exec"), namespace)
+    return SimpleNamespace(**namespace)
 
 
 def _load_cached(directory, key, text):
