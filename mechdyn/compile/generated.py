@@ -68,6 +68,14 @@ class SingularMassError(SimulationError):
                          "vanishes there, e.g. a dead centre of the driving coordinate)")
 
 
+def _flat_call(name, doc):
+    """A :class:`CompiledScene` method calling its generated function ``name``."""
+    def call(self, t_value, y, p) -> list:
+        return self._call(name, t_value, y, p)
+    call.__name__, call.__doc__ = name, doc
+    return call
+
+
 class CompiledScene:
     """The generated functions of one scene and the names that give them meaning.
 
@@ -153,33 +161,18 @@ class CompiledScene:
         out["mass"] = mass
         return out
 
-    def events(self, t_value, y, p) -> list:
-        """Values of the event functions (stops, friction rates, switching functions)."""
-        return self._call("events", t_value, y, p)
-
-    def outputs(self, t_value, y, p) -> list:
-        """Values of the requested outputs."""
-        return self._call("outputs", t_value, y, p)
-
-    def multipliers(self, t_value, y, p) -> list:
-        """Closed loops: the constraint forces ``lambda`` (``M a = f + G' lambda``)."""
-        return self._call("multipliers", t_value, y, p)
-
-    def closure(self, t_value, y, p) -> list:
-        """Closed loops: ``[g..., G row by row..., dg/dt..., bias...]``."""
-        return self._call("closure", t_value, y, p)
-
-    def drift(self, t_value, y, p) -> list:
-        """Closed loops: ``[max |g|, max |G u + dg/dt|]``."""
-        return self._call("drift", t_value, y, p)
-
-    def loop_minors(self, t_value, y, p) -> list:
-        """Closed loops: every ``m x m`` minor of ``G``."""
-        return self._call("loop_minors", t_value, y, p)
-
-    def linear_terms(self, t_value, y, p) -> list:
-        """``[M, df/dq, df/du]``, each ``n x n`` row by row."""
-        return self._call("linear_terms", t_value, y, p)
+    # Functions returning a flat list of ``_sizes[name]`` values at ``(t, y, p)``.
+    events = _flat_call("events", "Values of the event functions (stops, friction rates, "
+                        "switching functions).")
+    outputs = _flat_call("outputs", "Values of the requested outputs.")
+    multipliers = _flat_call("multipliers", "Closed loops: the constraint forces "
+                             "``lambda`` (``M a = f + G' lambda``).")
+    closure = _flat_call("closure", "Closed loops: ``[g..., G row by row..., dg/dt..., "
+                         "bias...]``.")
+    drift = _flat_call("drift", "Closed loops: ``[max |g|, max |G u + dg/dt|]``.")
+    loop_minors = _flat_call("loop_minors", "Closed loops: every ``m x m`` minor of ``G``.")
+    linear_terms = _flat_call("linear_terms", "``[M, df/dq, df/du]``, each ``n x n`` row "
+                              "by row.")
 
     def energy(self, t_value, y, p) -> list:
         """Kinetic and potential energy ``[T, V]``."""
