@@ -140,20 +140,34 @@ class Load(Element):
 
 
 @dataclass(frozen=True)
-class Spring(Element):
+class _OnStretch(Element):
+    """An element of one non-negative coefficient (the field named ``COEFFICIENT``)
+    acting along the expression ``stretch``: a spring, a damper."""
+    COEFFICIENT = ""
+    MOVING = ("stretch",)
+
+    def __post_init__(self):
+        super().__post_init__()
+        self.convert(self.COEFFICIENT, nonnegative=True)
+        self.convert("stretch")
+
+    def output_along(self):
+        return self.stretch
+
+    def expressions(self):
+        return {self.COEFFICIENT: getattr(self, self.COEFFICIENT), "stretch": self.stretch}
+
+
+@dataclass(frozen=True)
+class Spring(_OnStretch):
     """A linear spring of stiffness ``k`` on the ``stretch`` (an expression that is zero
     when the spring is relaxed): potential ``k stretch^2 / 2``, force ``-k stretch``.
     A stiffness that varies (a gear mesh) acts as the force ``-k(q, t) stretch``."""
     k: object = 0
     stretch: object = 0
 
-    MOVING = ("stretch",)
+    COEFFICIENT = "k"
     RULES = {"k": ("nonnegative", "a stiffness must not be negative")}
-
-    def __post_init__(self):
-        super().__post_init__()
-        self.convert("k", nonnegative=True)
-        self.convert("stretch")
 
     def work(self, motion):
         stretch, k = motion.position(self.stretch, self.name), motion.plain(self.k)
@@ -162,30 +176,19 @@ class Spring(Element):
     def check_units(self, units):
         units.work("k * stretch * d(stretch)/d{q}", "stretch", "k", "stretch")
 
-    def output_along(self):
-        return self.stretch
-
     def output(self, eqs):
         return eqs.to_plain(self.k * self.stretch)
 
-    def expressions(self):
-        return {"k": self.k, "stretch": self.stretch}
-
 
 @dataclass(frozen=True)
-class Damper(Element):
+class Damper(_OnStretch):
     """A linear viscous damper ``c`` on the rate of ``stretch``: Rayleigh dissipation
     ``c stretch'^2 / 2``, force ``-c stretch'``."""
     c: object = 0
     stretch: object = 0
 
-    MOVING = ("stretch",)
+    COEFFICIENT = "c"
     RULES = {"c": ("nonnegative", "a damping coefficient must not be negative")}
-
-    def __post_init__(self):
-        super().__post_init__()
-        self.convert("c", nonnegative=True)
-        self.convert("stretch")
 
     def work(self, motion):
         stretch, c = motion.position(self.stretch, self.name), motion.plain(self.c)
@@ -196,17 +199,11 @@ class Damper(Element):
         units.work("c * d(stretch)/dt * d(stretch)/d{q}", "stretch", "c", "stretch",
                    per_time=1)
 
-    def output_along(self):
-        return self.stretch
-
     def output(self, eqs):
         stretch = eqs.to_plain(self.stretch)
         rate = sum((sp.diff(stretch, q) * u for q, u in zip(eqs.q, eqs.u)), sp.S.Zero) \
             + sp.diff(stretch, t)
         return eqs.to_plain(self.c) * rate
-
-    def expressions(self):
-        return {"c": self.c, "stretch": self.stretch}
 
 
 @dataclass(frozen=True)
