@@ -58,8 +58,9 @@ def solve(view, mode, hint=None) -> Solution:
         if view.gears else []
     m_l, m_g = len(loop_rows), len(group_rows)
     if not sliding and not m_l and not m_g:
-        return Solution(np.linalg.solve(view.mass, view.forcing), np.zeros(0), np.zeros(0),
-                        {}, {})
+        a = view.forcing / view.mass[0, 0] if n == 1 else \
+            np.linalg.solve(view.mass, view.forcing)
+        return Solution(a, np.zeros(0), np.zeros(0), {}, {})
     if not sliding:
         return _linear_solve(view, mode, loop_rows, loop_bias, group_rows, leaders, (), {}, {})
     laws = {i: view.law(i) for i in sliding}

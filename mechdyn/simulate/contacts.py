@@ -33,6 +33,8 @@ taken as plastic and the contact rests, so a run has a finite number of events.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from mechdyn.errors import SceneError
@@ -144,6 +146,10 @@ def _impulse(view, u, rows, targets):
     rates and keeps the loops' speeds closed; returns it and the rows' impulses."""
     n = view.n
     loops = view.terms["constraint_gradient"].reshape(-1, n)
+    if not len(loops) and len(rows) == 1:
+        single = _single_impulse(view, rows[0], float(targets[0]))
+        if single is not None:
+            return single
     g = np.concatenate([loops, view.gradients[rows].reshape(-1, n)])
     wanted = np.concatenate([-(loops @ u + view.terms["constraint_rate"]),
                              np.asarray(targets, dtype=float) - view.rates[rows]])
@@ -154,3 +160,16 @@ def _impulse(view, u, rows, targets):
     system[n:, :n] = g
     solution = np.linalg.lstsq(system, np.concatenate([np.zeros(n), wanted]), rcond=None)[0]
     return solution[:n], solution[n + len(loops):]
+
+
+def _single_impulse(view, row, target):
+    """:func:`_impulse` for one row and no loops, in closed form: the change
+    ``M^-1 g' lambda`` with ``lambda = (target - rate) / (g M^-1 g')``; None where
+    ``g M^-1 g'`` is not positive (left to the least-squares solution)."""
+    mass, gradient = view.mass, view.gradients[row]
+    direction = gradient / mass[0, 0] if view.n == 1 else np.linalg.solve(mass, gradient)
+    weight = float(gradient @ direction)
+    if not (weight > 0 and math.isfinite(weight)):
+        return None
+    impulse = (target - float(view.rates[row])) / weight
+    return direction * impulse, np.array([impulse])

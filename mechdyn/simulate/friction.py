@@ -86,8 +86,8 @@ class StateView:
         self.n, self.terms, self.gears, self.kinds = n, terms, modes.gears, modes.kinds
         self.mass, self.forcing = terms["mass"], terms["forcing"]
         self.gradients, self.rates, self.biases = (
-            terms[f"friction_{part}"] if not c else
-            np.concatenate([terms[f"friction_{part}"], terms[f"contact_{part}"]])
+            terms[f"friction_{part}"] if not c else terms[f"contact_{part}"] if not modes.k
+            else np.concatenate([terms[f"friction_{part}"], terms[f"contact_{part}"]])
             for part in ("gradient", "rate", "bias"))
         self.magnitude, self.peak = terms["friction_magnitude"], terms["friction_peak"]
         self.release, self.gaps = terms["friction_release"], terms["contact_gap"]
