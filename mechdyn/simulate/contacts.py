@@ -54,7 +54,7 @@ def jump(modes, t, y, mode, arrived, events):
     them (for :meth:`~mechdyn.simulate.friction.FrictionModes.decide`). ``mode``: the mode
     before (None at the start of a run, where limits touched are found and limits
     already passed are refused); ``arrived``: the limits whose gap event fired."""
-    from mechdyn.simulate.friction import Mode
+    from mechdyn.simulate.friction import Mode, largest_magnitude
     k, n = modes.k, modes.n
     if not modes.contacts and (mode is not None or "one_way" not in modes.kinds):
         return y, set(), set()
@@ -62,7 +62,7 @@ def jump(modes, t, y, mode, arrived, events):
     resting = {e for e in (mode.stuck if mode else ()) if e >= k}     # in contact before
     arriving = set(arrived) | (_touching_at_start(modes, view, y) if mode is None else set())
     touching = resting | arriving
-    rest = _AT_REST * (1.0 + float(np.abs(y[n:]).max(initial=0.0)))
+    rest = _AT_REST * (1.0 + largest_magnitude(y[n:]))
     hitting = [e for e in sorted(arriving) if view.rates[e] < -rest]
     if mode is None:
         hitting += [j for j in range(k) if modes.kinds[j] == "one_way"
@@ -86,10 +86,10 @@ def jump(modes, t, y, mode, arrived, events):
             del active[e]
         for e in driven:
             active[e] = 0.0
-    mass = view.mass
-    lost = 0.5 * (u @ mass @ u - (u + change) @ mass @ (u + change))
+    mass, after_speeds = view.mass, u + change
+    lost = 0.5 * (u @ mass @ u - after_speeds @ mass @ after_speeds)
     y = np.array(y, dtype=float)
-    y[n:] = u + change
+    y[n:] = after_speeds
     impulses = dict(zip(rows, impulses))
     for count, e in enumerate(hitting):
         name = modes.contact_elements[e - k] if e >= k else modes.names[e]
@@ -121,10 +121,10 @@ def _targets(modes, t, y, view, mode, hitting, rest) -> dict:
     """The rate each impacting element leaves with: ``-e`` times its rate, or 0 where
     the remaining bounces would end within ``ZENO`` of the run (and for one-way
     clutches, which lock)."""
-    from mechdyn.simulate.friction import Mode
+    from mechdyn.simulate.friction import Mode, largest_magnitude
     restitution = view.terms["contact_restitution"]
     accelerations = modes.solve(view, mode or Mode()).a
-    height_floor = _HEIGHT * (1.0 + float(np.abs(y[:modes.n]).max(initial=0.0)))
+    height_floor = _HEIGHT * (1.0 + largest_magnitude(y[:modes.n]))
     out = {}
     for e in hitting:
         e_value = float(restitution[e - modes.k]) if e >= modes.k else 0.0

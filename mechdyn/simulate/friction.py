@@ -45,7 +45,7 @@ from mechdyn.simulate.constrained import group_check, shares, solve
 from mechdyn.simulate.events import Event
 from mechdyn.declare.gear_loss import LossLaw
 
-__all__ = ["Mode", "FrictionModes", "StateView", "allowed_motions"]
+__all__ = ["Mode", "FrictionModes", "StateView", "allowed_motions", "largest_magnitude"]
 
 _PARALLEL = 1e-12          # relative misalignment under which two gradients are parallel
 _CANNOT_HOLD = 1e-12       # relative G M^-1 G' under which a constraint cannot act
@@ -173,7 +173,7 @@ class FrictionModes:
             return Mode(flags=flags)
         events = events if events is not None else []
         view = self.view(t, y, Mode(flags=flags))
-        rest = _AT_REST * (1.0 + float(np.abs(y[self.n:]).max(initial=0.0)))
+        rest = _AT_REST * (1.0 + largest_magnitude(y[self.n:]))
         signs, free, candidates = [0.0] * self.k, set(), []
         for k in range(self.k):
             kind, rate = self.kinds[k], view.rates[k]
@@ -380,6 +380,16 @@ def allowed_motions(loop_gradients, n):
     _, singular, vt = np.linalg.svd(loop_gradients)
     rank = int(np.sum(singular > 1e-12 * max(singular[0], 1e-300)))
     return vt[rank:].T
+
+
+def largest_magnitude(values) -> float:
+    """The largest ``|value|`` of a (finite) array, 0 for none: the scale of the
+    tolerances above (a Python max: numpy's costs more on a few numbers).
+
+    >>> largest_magnitude(np.array([1.5, -2.0])), largest_magnitude(np.zeros(0))
+    (2.0, 0.0)
+    """
+    return float(max(map(abs, values.tolist()), default=0.0))
 
 
 def _way(sign) -> str:
