@@ -145,12 +145,12 @@ class FrictionModes:
     def view(self, t, y, mode) -> StateView:
         """The :class:`StateView` at ``(t, y)`` in ``mode``; the last one is kept (an
         event's impact, mode decision and gap offsets look at the same state)."""
-        p = self.p(mode)
-        key = (float(t), np.asarray(y, dtype=float).tobytes(), tuple(p))
+        key = (float(t), np.asarray(y, dtype=float).tobytes(),      # what p depends on
+               mode.signs if any(mode.signs) else (), mode.flags if any(mode.flags) else ())
         last = self._last_view
         if last is not None and last[0] == key:
             return last[1]
-        view = StateView(self, self.c.terms(t, y, p))
+        view = StateView(self, self.c.terms(t, y, self.p(mode)))
         self._last_view = (key, view)
         return view
 
