@@ -100,10 +100,12 @@ class CompiledScene:
         self.event_kinds = [tuple(kind) for kind in meta["events"]]
         self.flags = sum(1 for kind, _ in self.event_kinds if kind == "switch")
         self.layout = {name: (offset, tuple(shape)) for name, offset, shape in meta["terms"]}
-        self._slices = [(name, offset, offset + int(np.prod(shape)), shape)
+        self._slices = [(name, slice(offset, offset + int(np.prod(shape))),
+                         shape if len(shape) != 1 else None)
                         for name, (offset, shape) in self.layout.items()]
-        self._lower = np.tril_indices(self.dof)
-        self._upper = (self._lower[1], self._lower[0])
+        lower = np.tril_indices(self.dof)      # M from its lower triangle, by one take
+        self._symmetric = np.empty((self.dof, self.dof), dtype=np.intp)
+        self._symmetric[lower] = self._symmetric[lower[::-1]] = np.arange(len(lower[0]))
         self._sizes = {"terms": sum(int(np.prod(shape)) for _, shape in self.layout.values()),
                        "events": len(self.event_kinds), "outputs": len(self.output_labels)}
         from mechdyn.compile import loop_numeric
@@ -153,12 +155,9 @@ class CompiledScene:
         the stops' ``contact_*``, the lossy gears' ``gear_law``, the loops'
         ``constraint_*``."""
         flat = np.array(self._call("terms", t_value, y, p))
-        out = {name: flat[start:stop] if len(shape) == 1 else flat[start:stop].reshape(shape)
-               for name, start, stop, shape in self._slices}      # a vector: the slice
-        mass = np.empty((self.dof, self.dof))
-        mass[self._lower] = out["mass"]
-        mass[self._upper] = out["mass"]
-        out["mass"] = mass
+        out = {name: flat[part] if shape is None else flat[part].reshape(shape)
+               for name, part, shape in self._slices}      # a vector: the slice
+        out["mass"] = out["mass"][self._symmetric]
         return out
 
     # Functions returning a flat list of ``_sizes[name]`` values at ``(t, y, p)``.

@@ -53,13 +53,13 @@ def solve(view, mode, hint=None) -> Solution:
     n = view.n
     loop_rows, loop_bias = view.terms["constraint_gradient"], view.terms["constraint_bias"]
     leaders = [group[0][0] for group in mode.groups]
-    group_rows = view.gradients[leaders].reshape(-1, n)
     sliding = [i for i, (_, k, _) in enumerate(view.gears) if mode.signs and mode.signs[k]] \
         if view.gears else []
-    m_l, m_g = len(loop_rows), len(group_rows)
-    if not sliding and not m_l and not m_g:
-        return Solution(np.linalg.solve(view.mass, view.forcing), np.zeros(0), np.zeros(0),
-                        {}, {})
+    if not sliding and not len(loop_rows) and not leaders:
+        a = view.forcing / view.mass[0, 0] if n == 1 else \
+            np.linalg.solve(view.mass, view.forcing)
+        return Solution(a, np.zeros(0), np.zeros(0), {}, {})
+    group_rows = view.gradients[leaders].reshape(-1, n)
     if not sliding:
         return _linear_solve(view, mode, loop_rows, loop_bias, group_rows, leaders, (), {}, {})
     laws = {i: view.law(i) for i in sliding}

@@ -33,6 +33,8 @@ taken as plastic and the contact rests, so a run has a finite number of events.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from mechdyn.errors import SceneError
@@ -52,7 +54,7 @@ def jump(modes, t, y, mode, arrived, events):
     them (for :meth:`~mechdyn.simulate.friction.FrictionModes.decide`). ``mode``: the mode
     before (None at the start of a run, where limits touched are found and limits
     already passed are refused); ``arrived``: the limits whose gap event fired."""
-    from mechdyn.simulate.friction import Mode
+    from mechdyn.simulate.friction import Mode, largest_magnitude
     k, n = modes.k, modes.n
     if not modes.contacts and (mode is not None or "one_way" not in modes.kinds):
         return y, set(), set()
@@ -60,7 +62,7 @@ def jump(modes, t, y, mode, arrived, events):
     resting = {e for e in (mode.stuck if mode else ()) if e >= k}     # in contact before
     arriving = set(arrived) | (_touching_at_start(modes, view, y) if mode is None else set())
     touching = resting | arriving
-    rest = _AT_REST * (1.0 + float(np.abs(y[n:]).max(initial=0.0)))
+    rest = _AT_REST * (1.0 + largest_magnitude(y[n:]))
     hitting = [e for e in sorted(arriving) if view.rates[e] < -rest]
     if mode is None:
         hitting += [j for j in range(k) if modes.kinds[j] == "one_way"
@@ -84,10 +86,10 @@ def jump(modes, t, y, mode, arrived, events):
             del active[e]
         for e in driven:
             active[e] = 0.0
-    mass = view.mass
-    lost = 0.5 * (u @ mass @ u - (u + change) @ mass @ (u + change))
+    mass, after_speeds = view.mass, u + change
+    lost = 0.5 * (u @ mass @ u - after_speeds @ mass @ after_speeds)
     y = np.array(y, dtype=float)
-    y[n:] = u + change
+    y[n:] = after_speeds
     impulses = dict(zip(rows, impulses))
     for count, e in enumerate(hitting):
         name = modes.contact_elements[e - k] if e >= k else modes.names[e]
@@ -119,10 +121,10 @@ def _targets(modes, t, y, view, mode, hitting, rest) -> dict:
     """The rate each impacting element leaves with: ``-e`` times its rate, or 0 where
     the remaining bounces would end within ``ZENO`` of the run (and for one-way
     clutches, which lock)."""
-    from mechdyn.simulate.friction import Mode
+    from mechdyn.simulate.friction import Mode, largest_magnitude
     restitution = view.terms["contact_restitution"]
     accelerations = modes.solve(view, mode or Mode()).a
-    height_floor = _HEIGHT * (1.0 + float(np.abs(y[:modes.n]).max(initial=0.0)))
+    height_floor = _HEIGHT * (1.0 + largest_magnitude(y[:modes.n]))
     out = {}
     for e in hitting:
         e_value = float(restitution[e - modes.k]) if e >= modes.k else 0.0
@@ -144,6 +146,10 @@ def _impulse(view, u, rows, targets):
     rates and keeps the loops' speeds closed; returns it and the rows' impulses."""
     n = view.n
     loops = view.terms["constraint_gradient"].reshape(-1, n)
+    if not len(loops) and len(rows) == 1:
+        single = _single_impulse(view, rows[0], float(targets[0]))
+        if single is not None:
+            return single
     g = np.concatenate([loops, view.gradients[rows].reshape(-1, n)])
     wanted = np.concatenate([-(loops @ u + view.terms["constraint_rate"]),
                              np.asarray(targets, dtype=float) - view.rates[rows]])
@@ -154,3 +160,16 @@ def _impulse(view, u, rows, targets):
     system[n:, :n] = g
     solution = np.linalg.lstsq(system, np.concatenate([np.zeros(n), wanted]), rcond=None)[0]
     return solution[:n], solution[n + len(loops):]
+
+
+def _single_impulse(view, row, target):
+    """:func:`_impulse` for one row and no loops, in closed form: the change
+    ``M^-1 g' lambda`` with ``lambda = (target - rate) / (g M^-1 g')``; None where
+    ``g M^-1 g'`` is not positive (left to the least-squares solution)."""
+    mass, gradient = view.mass, view.gradients[row]
+    direction = gradient / mass[0, 0] if view.n == 1 else np.linalg.solve(mass, gradient)
+    weight = float(gradient @ direction)
+    if not (weight > 0 and math.isfinite(weight)):
+        return None
+    impulse = (target - float(view.rates[row])) / weight
+    return direction * impulse, np.array([impulse])

@@ -45,7 +45,7 @@ from mechdyn.simulate.constrained import group_check, shares, solve
 from mechdyn.simulate.events import Event
 from mechdyn.declare.gear_loss import LossLaw
 
-__all__ = ["Mode", "FrictionModes", "StateView", "allowed_motions"]
+__all__ = ["Mode", "FrictionModes", "StateView", "allowed_motions", "largest_magnitude"]
 
 _PARALLEL = 1e-12          # relative misalignment under which two gradients are parallel
 _CANNOT_HOLD = 1e-12       # relative G M^-1 G' under which a constraint cannot act
@@ -86,8 +86,8 @@ class StateView:
         self.n, self.terms, self.gears, self.kinds = n, terms, modes.gears, modes.kinds
         self.mass, self.forcing = terms["mass"], terms["forcing"]
         self.gradients, self.rates, self.biases = (
-            terms[f"friction_{part}"] if not c else
-            np.concatenate([terms[f"friction_{part}"], terms[f"contact_{part}"]])
+            terms[f"friction_{part}"] if not c else terms[f"contact_{part}"] if not modes.k
+            else np.concatenate([terms[f"friction_{part}"], terms[f"contact_{part}"]])
             for part in ("gradient", "rate", "bias"))
         self.magnitude, self.peak = terms["friction_magnitude"], terms["friction_peak"]
         self.release, self.gaps = terms["friction_release"], terms["contact_gap"]
@@ -145,12 +145,12 @@ class FrictionModes:
     def view(self, t, y, mode) -> StateView:
         """The :class:`StateView` at ``(t, y)`` in ``mode``; the last one is kept (an
         event's impact, mode decision and gap offsets look at the same state)."""
-        p = self.p(mode)
-        key = (float(t), np.asarray(y, dtype=float).tobytes(), tuple(p))
+        key = (float(t), np.asarray(y, dtype=float).tobytes(),      # what p depends on
+               mode.signs if any(mode.signs) else (), mode.flags if any(mode.flags) else ())
         last = self._last_view
         if last is not None and last[0] == key:
             return last[1]
-        view = StateView(self, self.c.terms(t, y, p))
+        view = StateView(self, self.c.terms(t, y, self.p(mode)))
         self._last_view = (key, view)
         return view
 
@@ -173,7 +173,7 @@ class FrictionModes:
             return Mode(flags=flags)
         events = events if events is not None else []
         view = self.view(t, y, Mode(flags=flags))
-        rest = _AT_REST * (1.0 + float(np.abs(y[self.n:]).max(initial=0.0)))
+        rest = _AT_REST * (1.0 + largest_magnitude(y[self.n:]))
         signs, free, candidates = [0.0] * self.k, set(), []
         for k in range(self.k):
             kind, rate = self.kinds[k], view.rates[k]
@@ -380,6 +380,16 @@ def allowed_motions(loop_gradients, n):
     _, singular, vt = np.linalg.svd(loop_gradients)
     rank = int(np.sum(singular > 1e-12 * max(singular[0], 1e-300)))
     return vt[rank:].T
+
+
+def largest_magnitude(values) -> float:
+    """The largest ``|value|`` of a (finite) array, 0 for none: the scale of the
+    tolerances above (a Python max: numpy's costs more on a few numbers).
+
+    >>> largest_magnitude(np.array([1.5, -2.0])), largest_magnitude(np.zeros(0))
+    (2.0, 0.0)
+    """
+    return float(max(map(abs, values.tolist()), default=0.0))
 
 
 def _way(sign) -> str:

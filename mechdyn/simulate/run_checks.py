@@ -6,6 +6,8 @@ and the diagnosis of a failure (the text that names why the equations fail there
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from mechdyn.compile.generated import SingularMassError
@@ -80,7 +82,7 @@ def check_scales(compiled, terms, t, y, name):
 
 
 def check_finite(compiled, t, y):
-    if not np.all(np.isfinite(y)):
+    if not all(map(math.isfinite, np.asarray(y, dtype=float).ravel().tolist())):
         raise SimulationError(f"integration failed at t = {t:.6g} s: the state became "
                               f"non-finite ({state_text(compiled, y)})")
 
