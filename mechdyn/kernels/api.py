@@ -118,6 +118,24 @@ class Integration:
         self.carry = new_carry(float(t0), y0, self.directions.size, float(h0))
         self.counts = np.zeros(N_COUNTS, dtype=np.int64)
 
+    @classmethod
+    def prepared(cls, functions, p, t0, y0, method, rtol, atol, directions, *, h0=0.0,
+                 max_step=np.inf, autonomous=False, midpoint_events=True,
+                 detect_switch=True, dense=True, scratch=None):
+        """An Integration from inputs a caller has already built and checked (the
+        simulation driver, once per segment): ``p``, ``y0``, ``atol`` (one per state)
+        and ``directions`` float64 / int64 vectors, ``method`` a kernel method; none
+        of the checks of the constructor are repeated."""
+        run = cls.__new__(cls)
+        run.scratch, run.functions, run.p = scratch, functions, p
+        run.n, run.rtol, run.atol, run.max_step = y0.size, rtol, atol, max_step
+        run.directions, run.method = directions, method
+        run.autonomous, run.midpoint_events = autonomous, midpoint_events
+        run.detect_switch, run.dense = detect_switch, dense
+        run.carry = new_carry(t0, y0, directions.size, h0)
+        run.counts = np.zeros(N_COUNTS, dtype=np.int64)
+        return run
+
     @property
     def t(self):
         return float(self.carry[T])

@@ -10,10 +10,13 @@ kernel's sign memory: the side a function counts as being on while it is zero.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from mechdyn.kernels import (CHUNK_FULL, DOP853, EVENT, FINISHED, IGNORED, NONSTIFF, RODAS5P,
                       STIFF, Integration)
+from mechdyn.errors import ParameterError
 from mechdyn.kernels.layout import EVENTS_VALID, HEAD
 from mechdyn.simulate.stepping import Outcome
 
@@ -42,21 +45,28 @@ class CompiledSegment:
                  autonomous=False, drift=0, midpoint=True, scratch=None):
         self.method, self.segment, self.t_bound = method, segment, t_bound
         self.events = len(watched) - drift       # the driver's watched events
-        directions = np.full(n_events, IGNORED, dtype=np.int64)
+        directions = [IGNORED] * n_events
         for index, direction, _ in watched:
             directions[index] = direction
         self.order = [index for index, _, _ in watched]
-        self.run = Integration(functions, np.asarray(p, dtype=float), t0, y0,
-                               method=KERNEL_METHODS[method], rtol=rtol, atol=atol,
-                               directions=directions if n_events else (),
-                               h0=first_step or 0.0, max_step=max_step,
-                               autonomous=autonomous, detect_switch=switch,
-                               midpoint_events=midpoint, scratch=scratch)
+        y0 = np.array(y0, dtype=float)
+        if not all(map(math.isfinite, y0.tolist())):
+            raise ParameterError(f"the state at the segment's start must be finite, got "
+                                 f"{y0.tolist()}")
+        n = y0.size
+        atol = np.full(n, float(atol)) if np.ndim(atol) == 0 \
+            else np.ascontiguousarray(atol, dtype=float)
+        self.run = Integration.prepared(                # the driver built the inputs
+            functions, np.array(p, dtype=float), float(t0), y0, KERNEL_METHODS[method],
+            float(rtol), atol, np.array(directions, dtype=np.int64),
+            h0=float(first_step or 0.0), max_step=float(max_step),
+            autonomous=bool(autonomous), detect_switch=bool(switch),
+            midpoint_events=bool(midpoint), scratch=scratch)
         if n_events:                   # the side each event counts as while it is zero
-            n = len(y0)
-            self.run.carry[EVENTS_VALID] = 1.0
+            carry = self.run.carry
+            carry[EVENTS_VALID] = 1.0
             for index, _, side in watched:
-                self.run.carry[HEAD + 2 * n + index] = side
+                carry[HEAD + 2 * n + index] = side
         self.steps = 0
         self._h = 0.0
 

@@ -295,16 +295,15 @@ class Driver:
             return ()
         p = self.modes.p(mode)
 
-        def sides(t_value, y_value):
+        def sides(t_value, y_value):                # short lists: plain Python
             values = self.c.events(t_value, y_value, p)
-            return np.sign([values[i] for i in switches])
+            return [_sign(values[i]) for i in switches]
         flags = sides(t, y)
-        if not np.all(flags):
+        if not all(flags):
             delta = 1e-9 * max(self.span, 1e-300)
             ahead = sides(t + delta, y + delta * np.asarray(self.c.rhs(t, y, p)))
-            flags = np.where(flags == 0, ahead, flags)
-        flags = np.where(flags == 0, 1.0, flags)
-        return tuple(0.0 if i in muted else float(f) for i, f in zip(switches, flags))
+            flags = [a if f == 0 else f for f, a in zip(flags, ahead)]
+        return tuple(0.0 if i in muted else (f or 1.0) for i, f in zip(switches, flags))
 
     def _chattering(self, t, switches):
         """Switching functions that fire again at the same instant are left to the
@@ -403,3 +402,8 @@ class Driver:
     def _result(self, reason) -> Result:
         return Result(self.c, self.trajectory, self.events, reason, dict(self.stats),
                       self.base, self.scene, self.mechanism_name, self.units, self.modes)
+
+
+def _sign(value):
+    """-1.0, 0.0 or 1.0 as ``numpy.sign``; NaN stays NaN."""
+    return 1.0 if value > 0 else -1.0 if value < 0 else 0.0 if value == 0 else value

@@ -130,6 +130,7 @@ class FrictionModes:
         self.lines = {}                   # the gear lines last used: tried first
         self._last_view = None            # (t, y, p) and the StateView there
         self.loop_projection = None       # a compiled assembly.project, where loaded
+        self._p = {}                      # p by (signs, flags): see p
 
     @property
     def size(self) -> int:
@@ -139,8 +140,12 @@ class FrictionModes:
     def p(self, mode: Mode) -> list:
         """The parameter vector of a mode: values, friction signs, branch flags (and a
         constant mass matrix's factor)."""
-        return self.base + list(mode.signs or [0.0] * self.k) + \
-            list(mode.flags or [0.0] * self.c.flags) + self.factor
+        key = (mode.signs, mode.flags)
+        p = self._p.get(key)                # several times per segment: kept per run
+        if p is None:
+            p = self._p[key] = self.base + list(mode.signs or [0.0] * self.k) + \
+                list(mode.flags or [0.0] * self.c.flags) + self.factor
+        return list(p)
 
     def view(self, t, y, mode) -> StateView:
         """The :class:`StateView` at ``(t, y)`` in ``mode``; the last one is kept (an

@@ -46,20 +46,23 @@ class LoopWatch:
     def __init__(self, compiled, rtol):
         self.c, self.rtol = compiled, rtol
         self.scale = None               # size of G's largest minor at the assembled start
+        self._floor = math.sqrt(np.finfo(float).eps / rtol)
 
     def limits(self, y0, p) -> tuple:
         """The largest drifts of the positions and speeds a segment starting at ``y0``
-        allows (``rtol`` times the loops' size)."""
-        from mechdyn.simulate.assembly import closure_parts
-        _, grads, _, _ = closure_parts(self.c, 0.0, y0, p)
-        size = float(np.abs(grads).max())
-        speed_scale = 1.0 + float(np.abs(y0[self.c.dof:]).max())
+        allows (``rtol`` times the loops' size). Plain Python: once per segment, on
+        short lists."""
+        n, m = self.c.dof, len(self.c.constraints)
+        y0 = y0.tolist() if type(y0) is np.ndarray else list(y0)
+        grads = self.c.closure(0.0, y0, p)[m:m + m * n]
+        size = float(max(map(abs, grads)))
+        speed_scale = 1.0 + float(max(map(abs, y0[n:])))
         return self.rtol * size, self.rtol * size * speed_scale
 
     def margin_limits(self) -> tuple:
         """The size of the largest minor below which the rank margin is computed, and
         the margin's floor (:meth:`check_margin`)."""
-        return (np.inf if self.scale is None else _PREFILTER * self.scale), self.floor()
+        return (np.inf if self.scale is None else _PREFILTER * self.scale), self._floor
 
     def drifted(self, y0, p):
         """``drift(t, y) -> bool`` for a segment starting at ``y0``, or None."""
@@ -78,7 +81,7 @@ class LoopWatch:
     def floor(self):
         """The rank margin of ``G`` below which the loop solve's rounding (about
         ``eps / margin^2``) exceeds rtol."""
-        return float(np.sqrt(np.finfo(float).eps / self.rtol))
+        return self._floor
 
     def check_margin(self, t, y, p):
         """Raise :class:`LoopSingularError` where the rank margin of ``G`` falls below
