@@ -250,3 +250,5 @@ def test_a_run_after_the_values_or_the_mechanism_changed_uses_the_new_ones(backe
     assert impact() == pytest.approx(math.sqrt(2 * 0.08 * 0.5 / 4), rel=1e-10)
     lever.load("brake", -3, along=theta)                       # net 1 N m
     assert impact() == pytest.approx(math.sqrt(2 * 0.08 * 0.5 / 1), rel=1e-10)
+    scene.initial[theta] = 0.3                 # the scene's start changed in place: 0.2 rad
+    assert impact() == pytest.approx(math.sqrt(2 * 0.08 * 0.2 / 1), rel=1e-10)

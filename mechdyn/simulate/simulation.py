@@ -62,8 +62,10 @@ def simulate(mechanism, scene: Scene, params: dict, *, progress=None, max_steps=
         kept.update(compiled=compiled, base=values.vector(compiled.param_names))
     base = list(kept["base"])
     if start is None:
-        if "y0" not in kept:
-            kept["y0"] = initial_state(compiled, mechanism, scene, values.numbers)
+        initial = tuple(scene.initial.items())          # a dict: it may change in place
+        if kept.get("initial") != initial:
+            kept.update(initial=initial,
+                        y0=initial_state(compiled, mechanism, scene, values.numbers))
         y0 = kept["y0"].copy()
     else:
         from mechdyn.declare.scene_units import check_given
