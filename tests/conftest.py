@@ -12,8 +12,13 @@ from pathlib import Path
 
 from hypothesis import Phase, settings
 
+_CHOSEN = "MECHDYN_TESTS_CACHE_FOLDER"      # inherited by the workers of `pytest -n`
+
 
 def _tests_cache() -> str:
+    chosen = os.environ.get(_CHOSEN)
+    if chosen:                     # a pytest-xdist worker: the folder its controller chose
+        return chosen
     if os.environ.get("MECHDYN_TEST_CACHE", "").lower() == "fresh":
         return tempfile.mkdtemp(prefix="mechdyn-test-cache-")
     base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
@@ -23,7 +28,7 @@ def _tests_cache() -> str:
 
 
 if os.environ.get("MECHDYN_CACHE", "").lower() != "off":
-    os.environ["MECHDYN_CACHE"] = _tests_cache()
+    os.environ["MECHDYN_CACHE"] = os.environ[_CHOSEN] = _tests_cache()
 
 settings.register_profile("mutation", database=None,
                           phases=[Phase.explicit, Phase.reuse, Phase.generate])
