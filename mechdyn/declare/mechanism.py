@@ -20,6 +20,7 @@ import sympy as sp
 from sympy.core.function import AppliedUndef
 
 from mechdyn.declare.couplings import Couplings
+from mechdyn.declare.contract import checked_expressions
 from mechdyn.declare.names import check_coordinates, check_parameters
 from mechdyn.declare.elements import (FRAME, Constraint, Damper, Element, Friction, Gravity, Joint,
                                       Link, Load, Spring)
@@ -123,7 +124,7 @@ class Mechanism(Couplings):
             raise DeclarationError(f"mechanism {self.name!r}: {FRAME!r} names the fixed "
                                    "frame in joints; give the element another name")
         known = self._parameter_names()
-        for attribute, expr in element.expressions().items():
+        for attribute, expr in checked_expressions(element).items():
             self._check_dependencies(element, attribute, expr)
             check_parameters(_what(element, attribute), expr, known, self.coordinates)
         for index, point in enumerate(getattr(element, "points", ())):

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 import sympy as sp
+from mechdyn.declare.contract import checked_work, completed
 from mechdyn.declare.elements import Constraint, Link, is_structural
 from mechdyn.errors import DerivationError
 from mechdyn.symbols import dotted_symbol, t
@@ -91,7 +92,8 @@ def derive(mechanism, element_names=None, rigid=()) -> Equations:
     for name in element_names:
         if name in rigid_names:
             continue
-        works[name] = work = elements[name].work(motion)
+        work = checked_work(elements[name], motion, coords)
+        works[name] = work = completed(elements[name], work, q, _diff)
         potential += work.potential
         dissipation += work.dissipation
         columns = [scaled(value, gradient(along)) for value, along in work.forces]
@@ -111,7 +113,8 @@ def derive(mechanism, element_names=None, rigid=()) -> Equations:
     gears = []
     for index, constraint in enumerate(constraints):
         element = elements.get(constraint.name)
-        sliding = element.work(motion).sliding if isinstance(element, Constraint) else None
+        sliding = (checked_work(element, motion, coords).sliding
+                   if isinstance(element, Constraint) else None)
         if sliding is not None:        # a lossy gear: its mesh loss slides or sticks
             gears.append(GearTerm(constraint.name, index, len(frictions), sliding.law))
             frictions.append(_friction_term(constraint.name, sliding, moving))
