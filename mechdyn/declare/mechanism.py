@@ -102,6 +102,7 @@ class Mechanism(Couplings):
                 raise DeclarationError(f"mechanism {self.name!r}: unit of {key}: "
                                        f"{error}") from None
             if key in self.coordinates:
+                self._check_coordinate_unit(key, unit)
                 self.units[key.func.__name__] = unit
             elif isinstance(key, sp.Symbol) and key != t:
                 self.parameter_units[key.name] = unit
@@ -112,6 +113,17 @@ class Mechanism(Couplings):
         self._derived.clear()
         self._memo.clear()
         self._dimensions_checked = False
+
+    def _check_coordinate_unit(self, q, unit):
+        """Coordinates are computed in SI (rad, m): a unit of another scale (deg, mm)
+        would label radians as degrees, so it is refused."""
+        from mechdyn.units import si_factor
+        if unit.strip() not in ("", "1") and abs(si_factor(unit) - 1) > 1e-12:
+            raise DeclarationError(
+                f"mechanism {self.name!r}: coordinate {q.func.__name__} declared in "
+                f"{unit!r}: coordinates are computed in SI units (rad, m, 1), so its values "
+                f"would not be in {unit}; declare it in an SI unit and show it in {unit} "
+                f"with res.summary(units={{'{q.func.__name__}': '{unit}'}}) or plot(units=...)")
 
     # ----------------------------------------------------------------- declaring
     def add(self, element: Element) -> Element:
