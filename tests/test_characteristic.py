@@ -121,6 +121,23 @@ def test_a_short_pressing_pulse_counts_with_its_exact_work_per_cycle():
     assert point.speed == pytest.approx(50 * (1 - mean / 100), rel=1e-9) and point.stable
 
 
+def test_a_moment_pulse_near_the_dead_centre_counts_with_its_exact_width():
+    """A moment M = 500 N m against the crank wherever x > x0 (10 mm before the outer
+    dead centre): x = x0 at cos phi_1 = (x0^2 - l^2 + r^2) / (2 x0 r), so it acts over
+    2 phi_1 of each turn and the mean load is M phi_1 / pi."""
+    phi = md.coordinate("phi")
+    r, l = 0.1, 0.4
+    x0 = r + l - 0.01
+    x = r * sp.cos(phi) + sp.sqrt(l ** 2 - r ** 2 * sp.sin(phi) ** 2)
+    press = md.Mechanism("press", [phi])
+    press.link("crank", J=1.0, angle=phi)
+    press.load("motor", md.motors.dc_shunt(100, 50)(md.speed(phi)), along=phi)
+    press.load("pressing", sp.Piecewise((-500.0, x > x0), (0, True)), along=phi)
+    phi_1 = math.acos((x0 ** 2 - l ** 2 + r ** 2) / (2 * x0 * r))
+    (point,) = md.characteristic(press, speeds=(1.0, 60.0)).points
+    assert point.moment == pytest.approx(500.0 * phi_1 / math.pi, rel=1e-9)
+
+
 def test_a_pulse_on_both_strokes_does_no_work_per_cycle():
     """Pressing whenever x > x0 (in and out): F dx/dphi integrates to zero over a cycle,
     so the motor runs free at w_0."""
