@@ -166,3 +166,25 @@ def test_a_switch_that_moves_with_the_speed_states_its_error_bound():
     mean = 3000.0 * 0.05 / (2 * math.pi)
     assert curves.points
     assert all(abs(p.moment - mean) <= bound * mean for p in curves.points)
+
+
+def test_the_command_averages_a_load_of_position_and_speed(capsys, tmp_path):
+    """`mechdyn characteristic` on the crank press pressing on the way in (it ended in
+    an internal ValueError, exit 3): the point of the closed form, mean load
+    F 0.01 / (2 pi)."""
+    model = tmp_path / "press.py"
+    model.write_text(
+        "import sympy as sp\nimport mechdyn as md\n"
+        "phi = md.coordinate('phi')\n"
+        "x = 0.1 * sp.cos(phi) + sp.sqrt(0.4**2 - 0.1**2 * sp.sin(phi)**2)\n"
+        "mechanism = md.Mechanism('press', [phi])\n"
+        "mechanism.link('crank', J=1.0, angle=phi)\n"
+        "mechanism.load('motor', md.motors.dc_shunt(100, 50)(md.speed(phi)), along=phi)\n"
+        "mechanism.load('pressing', sp.Piecewise((-20000.0, (x > 0.49) & "
+        "(sp.diff(x, md.t) > 0)), (0, True)), along=x)\n"
+        "params = {}\n"
+        "scenes = {'run': md.Scene('run', initial={phi: 0, md.speed(phi): 30}, t_end=1)}\n")
+    status = cli.main(["characteristic", str(model), "--scene", "run"])
+    out = capsys.readouterr().out
+    mean = 20000.0 * 0.01 / (2 * math.pi)
+    assert status == 0 and f"stable at {50 * (1 - mean / 100):.6g} rad/s, {mean:.6g} N*m" in out
