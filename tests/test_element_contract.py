@@ -151,6 +151,10 @@ def test_a_potential_only_element_exerts_minus_the_slope_of_its_potential():
                      outputs=["well"], backend="scipy")
     out = disc.simulate(scene, params=VALUES)
     assert np.allclose(out["well"], -8.0 * out[phi], rtol=0, atol=1e-12)
+    disc.joint("O", ("frame", "disc"), at=(0, 0))
+    angles = np.array([0.0, 0.5, 1.0])        # the drive balances I eps + k phi
+    statics = md.kinetostatics(disc, VALUES, angles, omega=1.0, eps=3.0)
+    assert np.allclose(statics.driving, 2.0 * 3.0 + 8.0 * angles, rtol=0, atol=1e-12)
 
 
 def test_a_dissipation_without_forces_is_refused_by_name():
