@@ -221,7 +221,7 @@ def _curve(expr, q, u, values, start, cycle, what):
     if not expr.has(q):
         f = sp.lambdify((q, u), expr, "numpy")
         return lambda w: np.broadcast_to(np.asarray(f(0.0, w), dtype=float), np.shape(w)) * 1.0
-    return cycle_mean(expr, q, u, cycle, what)
+    return cycle_mean(expr, q, u, cycle)
 
 
 def _top_speed(motor_at, scene, eqs):
