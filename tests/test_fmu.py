@@ -411,6 +411,29 @@ def test_a_run_from_rest_on_a_switching_surface_takes_the_side_the_acceleration_
         expected, rel=1e-6)
 
 
+@pytest.mark.parametrize("loads", [
+    lambda phi, t: [-100 * sp.Max(phi, 0), 2 * sp.Heaviside(phi) + 1],
+    lambda phi, t: [-100 * sp.Max(phi, 0), sp.Piecewise((3, (t > 0.5) & (t < 1)), (1, True))],
+    lambda phi, t: [-100 * sp.Max(phi, 0), 1 - 2 * sp.Heaviside(-phi)],  # both sides hold
+    lambda phi, t: [-50 * sp.Abs(phi), sp.Heaviside(t - 0.2) - 0.5]])
+def test_mixed_switches_from_rest_on_their_surface_agree_with_mechdyns_driver(tmp_path,
+                                                                              loads):
+    # Max, Heaviside, Abs and a time pulse, all zero at the start at rest (the old glue
+    # was off by 0.03 to 2000 here); where both sides would hold (the third), the
+    # driver's side
+    phi = md.coordinate("phi")
+    disc = md.Mechanism("disc", [phi])
+    disc.link("disc", J=1, angle=phi)
+    for index, value in enumerate(loads(phi, md.t)):
+        disc.load(f"load {index}", value, along=phi)
+    scene = md.Scene("rest", initial={phi: 0, md.speed(phi): 0}, t_end=2.0)
+    path = tmp_path / "disc.fmu"
+    disc.export_fmu(scene, {}, path)
+    result = fmpy.simulate_fmu(str(path), relative_tolerance=1e-10, output=["phi"])
+    expected = disc.simulate(scene, {}).final(phi)
+    assert result["phi"][-1] == pytest.approx(expected, rel=1e-6, abs=1e-9)
+
+
 def test_a_parameter_given_as_an_expression_is_calculated_in_the_fmu(tmp_path):
     """Q = 2 k: a disc J = 1 with a spring k and a load -Q phi swings at omega =
     sqrt(3 k); setting k = 9 in FMPy gives cos(sqrt(27)) at t = 1, as mechdyn does with

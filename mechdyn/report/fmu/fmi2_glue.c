@@ -76,7 +76,9 @@ static int derivatives(double t, const double *x, const double *p, const double 
 /* The side of each switching function; one that is exactly zero takes the side it
    moves to (looked up a moment later along the motion, its own flag unlocked), as
    mechdyn's driver does; one still zero there (a position at rest: its speed is zero)
-   is looked up along the motion the acceleration starts, q + tau^2/2 a, u + tau a. */
+   takes the positive side unless the motion that side's equations start leaves it
+   (looked up at q + tau^2/2 a, u + tau a: by the acceleration), as the driver's event
+   at the start then decides. */
 static void update_flags(Instance *m)
 {
     double z[NZ + 1], ahead[NZ + 1], dx[NX], x[NX], w[NSW + 1];
@@ -99,13 +101,19 @@ static void update_flags(Instance *m)
             }
     }
     if (zero) {
+        int undecided[NSW + 1];
+        for (k = 0; k < NSW; k++) {
+            undecided[k] = w[k] == 0.0;
+            if (undecided[k]) w[k] = 1.0;
+        }
+        derivatives(m->t, m->x, m->p, w, dx);
         for (i = 0; i < NQ; i++) {
             x[i] = m->x[i] + tau * dx[i] + 0.5 * tau * tau * dx[NQ + i];
             x[NQ + i] = m->x[NQ + i] + tau * dx[NQ + i];
         }
         md_indicators(m->t + tau, x, m->p, w, ahead);
         for (k = 0; k < NSW; k++)
-            if (w[k] == 0.0) w[k] = sign_of(ahead[NSTOP + k]);
+            if (undecided[k] && ahead[NSTOP + k] < 0.0) w[k] = -1.0;
     }
     for (k = 0; k < NSW; k++) m->w[k] = w[k] == 0.0 ? 1.0 : w[k];
 }
