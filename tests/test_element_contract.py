@@ -78,6 +78,8 @@ def _simulate(*elements, scene=SWING):
     (lambda m: md.Work(forces=((1.0, m.position(md.coordinate("psi"), "bad")),)),
      r"custom 'bad': Work.forces\[0\] along = psi\(t\) acts along psi\(t\), which is not a "
      r"coordinate of the mechanism \(coordinates: phi\)"),
+    (lambda m: md.Work(potential=sp.Function("f")(m.plain(phi))),
+     r"custom 'bad': Work.potential = f\(phi\) holds the undefined function f\(phi\)"),
 ])
 def test_a_malformed_work_is_refused_naming_the_element(make, match):
     with pytest.raises(md.DeclarationError, match=match):

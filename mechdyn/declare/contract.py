@@ -29,6 +29,7 @@ from sympy.core.function import AppliedUndef
 
 from mechdyn.declare.element_base import Limit, Sliding, Work, as_expression
 from mechdyn.errors import DeclarationError, MechdynError
+from mechdyn.symbols import t
 
 __all__ = ["call", "checked_expressions", "checked_work", "completed", "label"]
 
@@ -99,6 +100,9 @@ def _no_raw_functions(who, what, expr, coordinates):
     names = {c.func.__name__ for c in coordinates}
     for function in sorted(expr.atoms(AppliedUndef), key=str):
         name = function.func.__name__
+        if function.args != (t,):
+            raise DeclarationError(f"{who}: Work.{what} = {expr} holds the undefined "
+                                   f"function {function}, which has no value to compute")
         if name in names:
             raise DeclarationError(
                 f"{who}: Work.{what} = {expr} holds the coordinate function {function}; "
