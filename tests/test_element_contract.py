@@ -167,6 +167,18 @@ def test_a_dissipation_without_forces_is_refused_by_name():
         _simulate(Custom("drag", make=make))
 
 
+def test_a_potential_beside_forces_that_vanish_at_rest_is_refused_by_name():
+    """V = k phi^2 / 2 with only a damping force -c phi': the spring's force is missing
+    from the forces, so the potential would exert none."""
+    def make(motion):
+        angle = motion.position(phi, "leaky")
+        return md.Work(potential=motion.plain(k) * angle ** 2 / 2,
+                       forces=((-0.5 * motion.rate(angle), angle),))
+    with pytest.raises(md.DeclarationError, match=r"custom 'leaky': its work\(\) gives the "
+                                                  "potential .* forces that vanish at rest"):
+        _simulate(Custom("leaky", make=make))
+
+
 def test_a_sweep_refuses_a_local_element_class_before_writing_a_row(tmp_path):
     @dataclass(frozen=True)
     class LocalWell(Well):

@@ -113,15 +113,35 @@ def _no_raw_functions(who, what, expr, coordinates):
             f"of the mechanism (coordinates: {', '.join(sorted(names))})")
 
 
-def completed(element, work: Work, q, slope) -> Work:
+def completed(element, work: Work, q, slope, u=()) -> Work:
     """``work`` with forces derived from its potential when it gives none (``-dV/dq_i``
     along each ``q_i``, ``slope(expr, q_i)`` the derivative); a dissipation without
-    forces is refused (its force needs the speeds: give ``forces`` yourself)."""
-    if work.forces or (work.potential == 0 and work.dissipation == 0):
+    forces is refused (its force needs the speeds: give ``forces`` yourself). With the
+    speeds ``u``, forces that vanish at rest beside a potential that does not vanish in
+    slope are refused: the potential's own force is missing from them."""
+    who = label(element)
+    if work.forces:
+        if u and work.potential != 0 and _missing_potential_force(work, q, slope, u):
+            raise DeclarationError(
+                f"{who}: its work() gives the potential {work.potential} but forces that "
+                "vanish at rest, so the potential would exert no force; add its force "
+                "-dV/d(along) to forces, or give no forces (they are then derived from "
+                "the potential)")
+        return work
+    if work.potential == 0 and work.dissipation == 0:
         return work
     if work.dissipation != 0:
         raise DeclarationError(
-            f"{label(element)}: its work() gives the dissipation {work.dissipation} but no forces; give its "
-            "forces as well, e.g. forces=((-c * motion.rate(s), s),) for R = c s'^2/2")
+            f"{who}: its work() gives the dissipation {work.dissipation} but no forces; "
+            "give its forces as well, e.g. forces=((-c * motion.rate(s), s),) for "
+            "R = c s'^2/2")
     forces = tuple((-slope(work.potential, qi), qi) for qi in q)
     return replace(work, forces=tuple((value, qi) for value, qi in forces if value != 0))
+
+
+def _missing_potential_force(work, q, slope, u) -> bool:
+    at_rest = dict.fromkeys(u, sp.S.Zero)
+    resting = [sum((value * slope(along, qi) for value, along in work.forces), sp.S.Zero)
+               .xreplace(at_rest) for qi in q]
+    return all(sp.expand(f) == 0 for f in resting) and \
+        any(slope(work.potential, qi) != 0 for qi in q)

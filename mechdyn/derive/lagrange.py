@@ -93,7 +93,8 @@ def derive(mechanism, element_names=None, rigid=()) -> Equations:
         if name in rigid_names:
             continue
         work = checked_work(elements[name], motion, coords)
-        works[name] = work = completed(elements[name], work, q, _diff)
+        works[name] = work = completed(elements[name], work, q, _diff,
+                                       u if _foreign(elements[name]) else ())
         potential += work.potential
         dissipation += work.dissipation
         columns = [scaled(value, gradient(along)) for value, along in work.forces]
@@ -144,6 +145,12 @@ def derive(mechanism, element_names=None, rigid=()) -> Equations:
         acting={name: elements[name] for name in works},
         coordinate_units={plain_of[c]: mechanism.units.get(c.func.__name__, "rad")
                           for c in kept})
+
+
+def _foreign(element) -> bool:
+    """An element class defined outside mechdyn (its forces are checked against its
+    potential; mechdyn's own give both)."""
+    return type(element).__module__.split(".")[0] != "mechdyn"
 
 
 def _constraint_terms(mechanism, to_plain, gradient, rate, q, u) -> tuple:
