@@ -293,8 +293,7 @@ def _pickled(job, mechanism) -> bytes:
         raise SweepError(
             f"sweep: {', '.join(culprits) or 'the mechanism or scene'} cannot be pickled "
             f"for the sweep's worker processes ({error}); define the element class at "
-            "module level in an importable module (not inside a function or notebook "
-            "cell's function)") from error
+            "module level in an importable module, not inside a function") from error
 
 
 def _can_pickle(value) -> bool:
