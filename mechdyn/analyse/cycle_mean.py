@@ -36,7 +36,6 @@ _NODES, _WEIGHTS = np.polynomial.legendre.leggauss(16)
 
 def cycle_mean(expr, q, u, cycle):
     """``lambda w: mean over q in [0, cycle) of expr(q, w)`` (see the module)."""
-    f = sp.lambdify((q, u), expr, "numpy")
     switches = Switches({q, u})
     switches.lock(expr)
     positions, moving = [], []
@@ -48,9 +47,13 @@ def cycle_mean(expr, q, u, cycle):
             positions.append(sp.lambdify(q, parts[q], "numpy"))
     grid = np.linspace(0.0, cycle, _SAMPLES + 1)
     fixed = [0.0, cycle] + [x for h in positions for x in _zeros(h, grid, h(grid))]
-    if not moving:
+    if not moving:                    # the terms without the speed: their mean once
         nodes, weights = _rule(np.unique(fixed))
-        return lambda w: _values(f, nodes, w).T @ weights / cycle
+        still, moved = expr.as_independent(u, as_Add=True)
+        base = _values(sp.lambdify((q, u), still, "numpy"), nodes, 0.0)[:, 0] @ weights
+        g = sp.lambdify((q, u), moved, "numpy")
+        return lambda w: (base + _values(g, nodes, w).T @ weights) / cycle
+    f = sp.lambdify((q, u), expr, "numpy")
 
     def mean(w):                      # knots that move with the speed: per speed
         speeds = np.atleast_1d(np.asarray(w, dtype=float))
