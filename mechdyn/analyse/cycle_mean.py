@@ -30,7 +30,7 @@ from mechdyn.compile.generate import Switches
 __all__ = ["cycle_mean"]
 
 _SAMPLES = 20000         # positions a switching function is sampled at for its zeros
-_PANEL = 2 * np.pi / 64   # the widest panel of the Gauss-Legendre rule
+_PANEL = 2 * np.pi / 16   # the widest panel of the Gauss-Legendre rule
 _NODES, _WEIGHTS = np.polynomial.legendre.leggauss(16)
 
 
