@@ -13,7 +13,8 @@ and raise, before any stage uses it.
   the mechanism does not have;
 - :func:`completed` gives a potential-only element its forces, ``-dV/dq`` along each
   coordinate (Lagrange), so the derivation and the simulation agree; a dissipation
-  without forces is refused.
+  without forces, and a potential beside forces that vanish at rest (its force left
+  out), are refused.
 
 >>> import sympy as sp, mechdyn as md
 >>> q = sp.Symbol("q")
