@@ -5,6 +5,7 @@ and what cannot be exported is refused by name, leaving no file behind."""
 import ctypes
 import glob
 import math
+import re
 import shutil
 import zipfile
 from pathlib import Path
@@ -384,3 +385,93 @@ def test_fmpy_builds_the_binary_from_the_fmus_sources_alone(exported, tmp_path):
     (tmp_path / "build").mkdir()
     build_platform_binary(unpacked, build_dir=tmp_path / "build")
     assert_agrees(unpacked, m.mechanism, scene, m.params)
+
+
+# ------------------------------------------- issue 37: start on a switch, derived values
+@pytest.mark.parametrize("push", [1.0, -1.0])
+def test_a_run_from_rest_on_a_switching_surface_takes_the_side_the_acceleration_gives(
+        tmp_path, push):
+    """A disc J = 1 at rest at phi = 0, a push F, a one-sided spring -k Max(phi, 0),
+    k = 100: pushed forward the spring acts from the start, phi = F/k (1 - cos 10 t);
+    pushed back it never acts, phi = F t^2 / 2 (the speed is zero at the start, so only
+    the acceleration tells the side)."""
+    phi = md.coordinate("phi")
+    F, k = sp.symbols("F k")
+    disc = md.Mechanism("disc", [phi])
+    disc.link("disc", J=1, angle=phi)
+    disc.load("push", F, along=phi)
+    disc.load("spring", -k * sp.Max(phi, 0), along=phi)
+    scene = md.Scene("rest", initial={phi: 0, md.speed(phi): 0}, t_end=2.0)
+    path = tmp_path / "disc.fmu"
+    disc.export_fmu(scene, {F: push, k: 100.0}, path)
+    result = fmpy.simulate_fmu(str(path), relative_tolerance=1e-10, output=["phi"])
+    expected = push / 100 * (1 - math.cos(20.0)) if push > 0 else push * 2.0 ** 2 / 2
+    assert result["phi"][-1] == pytest.approx(expected, rel=1e-5)
+    assert disc.simulate(scene, {F: push, k: 100.0}).final(phi) == pytest.approx(
+        expected, rel=1e-6)
+
+
+@pytest.mark.parametrize("loads", [
+    lambda phi, t: [-100 * sp.Max(phi, 0), 2 * sp.Heaviside(phi) + 1],
+    lambda phi, t: [-100 * sp.Max(phi, 0), sp.Piecewise((3, (t > 0.5) & (t < 1)), (1, True))],
+    lambda phi, t: [-100 * sp.Max(phi, 0), 1 - 2 * sp.Heaviside(-phi)],  # both sides hold
+    lambda phi, t: [-50 * sp.Abs(phi), sp.Heaviside(t - 0.2) - 0.5]])
+def test_mixed_switches_from_rest_on_their_surface_agree_with_mechdyns_driver(tmp_path,
+                                                                              loads):
+    # Max, Heaviside, Abs and a time pulse, all zero at the start at rest (the old glue
+    # was off by 0.03 to 2000 here); where both sides would hold (the third), the
+    # driver's side
+    phi = md.coordinate("phi")
+    disc = md.Mechanism("disc", [phi])
+    disc.link("disc", J=1, angle=phi)
+    for index, value in enumerate(loads(phi, md.t)):
+        disc.load(f"load {index}", value, along=phi)
+    scene = md.Scene("rest", initial={phi: 0, md.speed(phi): 0}, t_end=2.0)
+    path = tmp_path / "disc.fmu"
+    disc.export_fmu(scene, {}, path)
+    result = fmpy.simulate_fmu(str(path), relative_tolerance=1e-10, output=["phi"])
+    expected = disc.simulate(scene, {}).final(phi)
+    assert result["phi"][-1] == pytest.approx(expected, rel=1e-6, abs=1e-9)
+
+
+def test_a_parameter_given_as_an_expression_is_calculated_in_the_fmu(tmp_path):
+    """Q = 2 k: a disc J = 1 with a spring k and a load -Q phi swings at omega =
+    sqrt(3 k); setting k = 9 in FMPy gives cos(sqrt(27)) at t = 1, as mechdyn does with
+    k = 9, and Q is a calculated parameter that cannot be set."""
+    from fmpy.fmi1 import FMICallException
+    phi = md.coordinate("phi")
+    J, k, Q = sp.symbols("J k Q", positive=True)
+    disc = md.Mechanism("disc", [phi])
+    disc.link("disc", J=J, angle=phi)
+    disc.spring("spring", k, phi)
+    disc.load("extra", -Q * phi, along=phi)
+    scene = md.Scene("swing", initial={phi: 1, md.speed(phi): 0}, t_end=1.0)
+    path = tmp_path / "disc.fmu"
+    disc.export_fmu(scene, {J: 1.0, k: 1.0, Q: 2 * k}, path)
+    assert validate_fmu(str(path)) == []
+    variables = {v.name: v for v in fmpy.read_model_description(str(path)).modelVariables}
+    assert variables["Q"].causality == "calculatedParameter"
+    assert variables["k"].causality == "parameter"
+    result = fmpy.simulate_fmu(str(path), relative_tolerance=1e-12, output=["phi", "Q"],
+                               start_values={"k": 9.0})
+    assert result["phi"][-1] == pytest.approx(math.cos(math.sqrt(27.0)), abs=1e-7)
+    assert result["Q"][-1] == 18.0
+    mechdyn_run = disc.simulate(scene, {J: 1.0, k: 9.0, Q: 2 * k}).final(phi)
+    assert result["phi"][-1] == pytest.approx(mechdyn_run, abs=1e-7)
+    with pytest.raises(FMICallException, match="fmi2SetReal"):
+        fmpy.simulate_fmu(str(path), start_values={"Q": 5.0})
+    with pytest.raises(FmuError, match="input 'Q': parameter Q is given as 2\\*k"):
+        disc.export_fmu(scene, {J: 1.0, k: 1.0, Q: 2 * k}, tmp_path / "in.fmu",
+                        inputs=["Q"])
+
+
+@pytest.mark.parametrize("label", ["time", "der(phi)"])
+def test_an_output_may_not_take_a_name_fmi_reserves(tmp_path, label):
+    # FMPy's result keeps the time under "time": an output of that name was lost
+    mechanism, scene, params = drive(lambda phi: M_CTRL)
+    phi = mechanism.coordinates[0]
+    odd = md.Scene("odd", initial=scene.initial, t_end=1, outputs={label: 2 * phi})
+    with pytest.raises(FmuError, match=rf"output '{re.escape(label)}' takes a name FMI tools "
+                                       "reserve"):
+        export_fmu(mechanism, odd, {**params, M_CTRL: 1}, tmp_path / "x.fmu")
+    assert list(tmp_path.iterdir()) == []

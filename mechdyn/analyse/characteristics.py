@@ -26,6 +26,7 @@ import numpy as np
 import sympy as sp
 from scipy.optimize import brentq
 
+from mechdyn.analyse.cycle_mean import cycle_mean
 from mechdyn.errors import MechdynError
 from mechdyn.declare.parameters import ParameterSet, missing_values
 from mechdyn.symbols import t
@@ -33,7 +34,6 @@ from mechdyn.symbols import t
 __all__ = ["characteristic", "Characteristic", "OperatingPoint", "CharacteristicError"]
 
 _GRID = 4001          # speeds scanned for balances
-_CYCLE_POINTS = 360   # positions over a cycle for position-dependent moments
 
 
 class CharacteristicError(MechdynError, ValueError):
@@ -211,19 +211,17 @@ def _drive(mechanism, eqs, drive):
 def _curve(expr, q, u, values, start, cycle, what):
     """A vectorized function of the speed: ``expr`` with the parameter ``values`` (a
     :class:`~mechdyn.declare.parameters.ParameterSet`), at the start time, averaged over
-    a cycle of ``q`` where it depends on it."""
+    a cycle of ``q`` where it depends on it (:func:`~mechdyn.analyse.cycle_mean.cycle_mean`:
+    exact for loads that switch with the position)."""
     expr = values.substitute(expr).subs(t, start)
     missing = expr.free_symbols - {q, u}
     if missing:
         raise missing_values(sorted(map(str, missing)), f"{what} (characteristic)",
                              getattr(values.mechanism, "name", None))
-    f = sp.lambdify((q, u), expr, "numpy")
     if not expr.has(q):
+        f = sp.lambdify((q, u), expr, "numpy")
         return lambda w: np.broadcast_to(np.asarray(f(0.0, w), dtype=float), np.shape(w)) * 1.0
-    angles = np.linspace(0.0, cycle, _CYCLE_POINTS, endpoint=False)[:, None]
-    return lambda w: np.mean(np.broadcast_to(np.asarray(f(angles, np.asarray(w)[None, :]),
-                                                        dtype=float),
-                                             (len(angles), np.size(w))), axis=0)
+    return cycle_mean(expr, q, u, cycle)
 
 
 def _top_speed(motor_at, scene, eqs):

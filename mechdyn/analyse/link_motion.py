@@ -13,6 +13,7 @@ import sympy as sp
 
 from mechdyn.compile.codegen import list_function
 from mechdyn.declare.elements import Joint, Link
+from mechdyn.declare.contract import call, completed
 from mechdyn.errors import MechdynError
 from mechdyn.symbols import t
 
@@ -91,7 +92,7 @@ class LinkMotion:
         out = []
         for name in self.eqs.elements:
             element = self.mech.elements[name]
-            work = element.work(motion)
+            work = completed(element, call(element, "work", motion), self.eqs.q, sp.diff)
             if work.sliding is not None or work.contacts:
                 raise KinetostaticsError(f"{type(element).__name__.lower()} {name!r}: "
                                          "kinetostatics prescribes the motion, leave "

@@ -132,12 +132,13 @@ def sweep(mechanism, scene, params, grid, executor=None, out=None, progress=True
             job = _Job(mechanism, scene, values.numbers, tuple(names), compiled.key,
                        compiled.meta, compiled.source,
                        {todo[index]: error for index, error in refused.items()})
+            blob = _pickled(job, mechanism)     # before any row: workers unpickle it
             bar = _bar(progress, len(points), len(table.rows))
             if executor is None and workers is None:
                 _load_kernels(compiled, scene)    # once, before any point or worker
                 todo = _run_here(job, todo, table, bar, HERE_SECONDS)
             if todo:
-                _run(job, todo, table, executor or workers, bar)
+                _run(blob, todo, table, executor or workers, bar)
         rows = [table.rows[point] for point in points]
     default_y = "t_end" if scene.until else next(
         (c for c in columns if c.startswith("peak:")), f"final:{compiled.state_names[-1]}")
@@ -281,12 +282,34 @@ def _run_here(job, todo, table, bar, seconds) -> list:
     return left
 
 
-def _run(job, todo, table, executor, bar):
+def _pickled(job, mechanism) -> bytes:
+    """The job as the workers receive it; an element class they could not unpickle (one
+    defined inside a function) is refused by name before the first row."""
+    try:
+        return pickle.dumps(job)
+    except (pickle.PicklingError, AttributeError, TypeError) as error:
+        culprits = [f"{type(e).__name__.lower()} {name!r}" for name, e in
+                    mechanism.elements.items() if not _can_pickle(e)]
+        raise SweepError(
+            f"sweep: {', '.join(culprits) or 'the mechanism or scene'} cannot be pickled "
+            f"for the sweep's worker processes ({error}); define the element class at "
+            "module level in an importable module, not inside a function") from error
+
+
+def _can_pickle(value) -> bool:
+    try:
+        pickle.dumps(value)
+    except (pickle.PicklingError, AttributeError, TypeError):
+        return False
+    return True
+
+
+def _run(blob, todo, table, executor, bar):
     """Submit the points in batches, at most ``IN_FLIGHT`` batches at a time (four per
     local worker), and record each row as its batch finishes; on any interruption keep
     the finished rows, cancel the rest and end the local workers. ``executor``: an
-    Executor, or the number of local workers (None: one per core)."""
-    blob = pickle.dumps(job)
+    Executor, or the number of local workers (None: one per core); ``blob`` the pickled
+    job."""
     digest = hashlib.sha256(blob).hexdigest()
     own = not hasattr(executor, "submit")
     limit = IN_FLIGHT

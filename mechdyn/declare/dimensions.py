@@ -32,6 +32,7 @@ from fractions import Fraction
 import sympy as sp
 from sympy.core.function import AppliedUndef
 
+from mechdyn.declare.contract import call
 from mechdyn.errors import DeclarationError
 from mechdyn.symbols import dotted_symbol, t
 from mechdyn.units import DIMENSIONLESS, Dimension, dimension
@@ -238,7 +239,7 @@ def _missing_units(mechanism, known):
 
 def _check_element(element, known, mechanism):
     check = UnitCheck(element, known, mechanism)
-    element.check_units(check)
+    call(element, "check_units", check)
     for index, point in enumerate(getattr(element, "points", ())):
         for axis, expr in zip("xy", point):
             dim = _dims(expr, known, f"{check.label}: point {index} {axis}")

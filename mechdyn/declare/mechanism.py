@@ -20,6 +20,7 @@ import sympy as sp
 from sympy.core.function import AppliedUndef
 
 from mechdyn.declare.couplings import Couplings
+from mechdyn.declare.contract import checked_expressions
 from mechdyn.declare.names import check_coordinates, check_parameters
 from mechdyn.declare.elements import (FRAME, Constraint, Damper, Element, Friction, Gravity, Joint,
                                       Link, Load, Spring)
@@ -101,6 +102,7 @@ class Mechanism(Couplings):
                 raise DeclarationError(f"mechanism {self.name!r}: unit of {key}: "
                                        f"{error}") from None
             if key in self.coordinates:
+                self._check_coordinate_unit(key, unit)
                 self.units[key.func.__name__] = unit
             elif isinstance(key, sp.Symbol) and key != t:
                 self.parameter_units[key.name] = unit
@@ -111,6 +113,17 @@ class Mechanism(Couplings):
         self._derived.clear()
         self._memo.clear()
         self._dimensions_checked = False
+
+    def _check_coordinate_unit(self, q, unit):
+        """Coordinates are computed in SI (rad, m): a unit of another scale (deg, mm)
+        would label radians as degrees, so it is refused."""
+        from mechdyn.units import si_factor
+        if unit.strip() not in ("", "1") and abs(si_factor(unit) - 1) > 1e-12:
+            raise DeclarationError(
+                f"mechanism {self.name!r}: coordinate {q.func.__name__} declared in "
+                f"{unit!r}: coordinates are computed in SI units (rad, m, 1), so its values "
+                f"would not be in {unit}; declare it in an SI unit and show it in {unit} "
+                f"with res.summary(units={{'{q.func.__name__}': '{unit}'}}) or plot(units=...)")
 
     # ----------------------------------------------------------------- declaring
     def add(self, element: Element) -> Element:
@@ -123,7 +136,7 @@ class Mechanism(Couplings):
             raise DeclarationError(f"mechanism {self.name!r}: {FRAME!r} names the fixed "
                                    "frame in joints; give the element another name")
         known = self._parameter_names()
-        for attribute, expr in element.expressions().items():
+        for attribute, expr in checked_expressions(element).items():
             self._check_dependencies(element, attribute, expr)
             check_parameters(_what(element, attribute), expr, known, self.coordinates)
         for index, point in enumerate(getattr(element, "points", ())):

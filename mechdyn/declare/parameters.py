@@ -236,6 +236,12 @@ class ParameterSet(Mapping):
         return expr.xreplace({s: sp.Float(self.numbers[s.name]) for s in expr.free_symbols
                               if s.name in self.numbers})
 
+    def dependent(self) -> dict:
+        """``{name: expression}`` of the values given as expressions of other
+        parameters (``{Q: 2*k}``), as given."""
+        return {name: value for name, value in self._raw.items()
+                if isinstance(value, sp.Basic) and value.free_symbols}
+
     # ---------------------------------------------------------------- internals
     def _named(self, source, strict) -> dict:
         """``{name: raw value}`` of one dict; unknown names refused when ``strict``."""

@@ -11,6 +11,7 @@ transmission functions read from them.
 >>> reduced_inertia(drive), reduced_moment(drive)
 (J, M)
 """
+from mechdyn.declare.contract import call
 from mechdyn.declare.dimensions import check_elements, check_equations
 from mechdyn.declare.scene_units import check_scene
 from mechdyn.declare.scene import selection
@@ -76,7 +77,7 @@ def element_output(eqs, scene_name, name, elements):
     if element is None:
         raise SceneError(f"scene {scene_name!r}: output {name!r} is not an element of the "
                          f"scene (elements: {list(eqs.elements)})")
-    value = element.output(eqs)
+    value = call(element, "output", eqs)
     if value is None:
         raise SceneError(f"scene {scene_name!r}: output {name!r}: a "
                          f"{type(element).__name__.lower()} has no single force to record; "

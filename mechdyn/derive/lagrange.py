@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 import sympy as sp
+from mechdyn.declare.contract import checked_work, completed
 from mechdyn.declare.elements import Constraint, Link, is_structural
 from mechdyn.errors import DerivationError
 from mechdyn.symbols import dotted_symbol, t
@@ -91,7 +92,9 @@ def derive(mechanism, element_names=None, rigid=()) -> Equations:
     for name in element_names:
         if name in rigid_names:
             continue
-        works[name] = work = elements[name].work(motion)
+        work = checked_work(elements[name], motion, coords)
+        works[name] = work = completed(elements[name], work, q, _diff,
+                                       u if _foreign(elements[name]) else ())
         potential += work.potential
         dissipation += work.dissipation
         columns = [scaled(value, gradient(along)) for value, along in work.forces]
@@ -111,7 +114,8 @@ def derive(mechanism, element_names=None, rigid=()) -> Equations:
     gears = []
     for index, constraint in enumerate(constraints):
         element = elements.get(constraint.name)
-        sliding = element.work(motion).sliding if isinstance(element, Constraint) else None
+        sliding = (checked_work(element, motion, coords).sliding
+                   if isinstance(element, Constraint) else None)
         if sliding is not None:        # a lossy gear: its mesh loss slides or sticks
             gears.append(GearTerm(constraint.name, index, len(frictions), sliding.law))
             frictions.append(_friction_term(constraint.name, sliding, moving))
@@ -141,6 +145,12 @@ def derive(mechanism, element_names=None, rigid=()) -> Equations:
         acting={name: elements[name] for name in works},
         coordinate_units={plain_of[c]: mechanism.units.get(c.func.__name__, "rad")
                           for c in kept})
+
+
+def _foreign(element) -> bool:
+    """An element class defined outside mechdyn (its forces are checked against its
+    potential; mechdyn's own give both)."""
+    return type(element).__module__.split(".")[0] != "mechdyn"
 
 
 def _constraint_terms(mechanism, to_plain, gradient, rate, q, u) -> tuple:

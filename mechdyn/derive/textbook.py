@@ -29,6 +29,7 @@ from dataclasses import dataclass, field
 import sympy as sp
 from sympy.printing.latex import LatexPrinter
 
+from mechdyn.declare.contract import call, completed
 from mechdyn.derive.budget import Budget, cheap_tidy
 from mechdyn.derive.coupling_steps import coupling_steps
 from mechdyn.symbols import t
@@ -258,7 +259,7 @@ def textbook(eqs, budget=None) -> Derivation:
     potential, dissipation, terms = sp.S.Zero, sp.S.Zero, {}
     motion = _NamedMotion(book)
     for name, element in eqs.acting.items():
-        work = element.work(motion)              # each term as its element writes it
+        work = completed(element, call(element, "work", motion), q, book.slope)
         potential += work.potential
         dissipation += work.dissipation
         if not work.forces:

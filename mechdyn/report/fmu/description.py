@@ -21,8 +21,9 @@ _BASE_UNITS = {"[mass]": "kg", "[length]": "m", "[time]": "s", "[current]": "A",
 
 @dataclass
 class Variable:
-    """One scalar variable: ``kind`` "state", "derivative", "parameter", "input" or
-    "output"; ``start`` for states, parameters and inputs; ``derivative_of`` the
+    """One scalar variable: ``kind`` "state", "derivative", "parameter", "calculated"
+    (a parameter computed from others), "input" or "output"; ``start`` for states,
+    parameters and inputs; ``derivative_of`` the
     (1-based) index of a derivative's state."""
     name: str
     kind: str
@@ -61,6 +62,7 @@ _KINDS = {  # kind -> causality, variability, initial
     "state": ("local", "continuous", "exact"),
     "derivative": ("local", "continuous", None),
     "parameter": ("parameter", "tunable", "exact"),
+    "calculated": ("calculatedParameter", "tunable", "calculated"),
     "input": ("input", "continuous", None),
     "output": ("output", "continuous", None),
 }
@@ -112,9 +114,10 @@ def model_description(*, name, identifier, guid, description, variables, units, 
     lines.append("  </ModelVariables>")
     outputs = [i + 1 for i, v in enumerate(variables) if v.kind == "output"]
     derivatives = [i + 1 for i, v in enumerate(variables) if v.kind == "derivative"]
+    calculated = [i + 1 for i, v in enumerate(variables) if v.kind == "calculated"]
     lines.append("  <ModelStructure>")
     for tag, indices in (("Outputs", outputs), ("Derivatives", derivatives),
-                         ("InitialUnknowns", sorted(outputs + derivatives))):
+                         ("InitialUnknowns", sorted(outputs + derivatives + calculated))):
         if indices:
             lines += [f"    <{tag}>"] + [f'      <Unknown index="{i}"/>' for i in indices] + \
                 [f"    </{tag}>"]

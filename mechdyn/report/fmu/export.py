@@ -24,6 +24,7 @@ from mechdyn.declare.scene import Scene
 from mechdyn.derive.selection import select
 from mechdyn.report.fmu.build import FmuError, build_fmu, find_compiler
 from mechdyn.report.fmu.c_code import FmuExpressionError
+from mechdyn.report.fmu.calculated import calculated_code, calculated_parameters
 from mechdyn.report.fmu.description import Variable, model_description, unit_of
 from mechdyn.report.fmu.model_code import model_code
 from mechdyn.units import dimension
@@ -32,6 +33,7 @@ from mechdyn.version import __version__
 __all__ = ["export_fmu"]
 
 ENERGIES = ("kinetic_energy", "potential_energy", "energy")
+RESERVED = ("time",)        # FMI's independent variable: FMPy's result column of the time
 
 
 def export_fmu(mechanism, scene, params, path, inputs=(), start=None) -> Path:
@@ -51,13 +53,16 @@ def export_fmu(mechanism, scene, params, path, inputs=(), start=None) -> Path:
         code = model_code(eqs, select(mechanism, scene))
     except FmuExpressionError as error:
         raise FmuError(f"scene {scene.name!r}: {error}") from None
-    names = [s.name for s in code.parameters]
+    names, dependent = calculated_parameters(values.dependent(),
+                                             [s.name for s in code.parameters])
     p = values.vector(names)
-    marked = _inputs(inputs, names, mechanism, scene)
+    marked = _inputs(inputs, names, mechanism, scene, dependent)
     y0 = _initial_state(mechanism, scene, values, start)
-    variables, units = _variables(mechanism, scene, eqs, code, p, marked, y0)
-    guid = _guid(code.source, variables)
-    source = _model_source(code, p, y0, scene, guid)
+    variables, units = _variables(mechanism, scene, eqs, code, (names, p, dependent),
+                                  marked, y0)
+    calculated, where = calculated_code(names, dependent)
+    guid = _guid(code.source + calculated, variables)
+    source = _model_source(code, p, y0, scene, guid, (calculated, where))
     identifier = _identifier(f"{mechanism.name}_{scene.name}")
     description = model_description(
         name=f"{mechanism.name} ({scene.name})", identifier=identifier, guid=guid,
@@ -101,9 +106,9 @@ def _refuse_switching_elements(eqs, scene, elements):
                        "scene's effects to export the rest")
 
 
-def _inputs(inputs, names, mechanism, scene) -> set:
+def _inputs(inputs, names, mechanism, scene, dependent) -> set:
     """Parameter names the FMU reads as inputs (a load's name stands for its value's
-    one symbol)."""
+    one symbol); a calculated one (``dependent``) cannot be one."""
     marked = set()
     for item in [inputs] if isinstance(inputs, str) else list(inputs or ()):
         name = item.name if isinstance(item, sp.Symbol) else str(item)
@@ -117,6 +122,10 @@ def _inputs(inputs, names, mechanism, scene) -> set:
         if name not in names:
             raise FmuError(f"input {item!r}: not a parameter of scene {scene.name!r} "
                            f"(its parameters: {', '.join(names) or 'none'})")
+        if name in dependent:
+            raise FmuError(f"input {item!r}: parameter {name} is given as {dependent[name]}, "
+                           "calculated from the others; give it a number to read it as "
+                           "an input")
         marked.add(name)
     return marked
 
@@ -139,8 +148,9 @@ def _initial_state(mechanism, scene, values, start) -> list:
     return [float(v) for v in y0]
 
 
-def _variables(mechanism, scene, eqs, code, p, marked, y0) -> tuple:
-    """The variables in value-reference order and the units they use."""
+def _variables(mechanism, scene, eqs, code, parameter_values, marked, y0) -> tuple:
+    """The variables in value-reference order and the units they use;
+    ``parameter_values``: the parameters' names, values and calculated ones."""
     units = {}
 
     def unit(text):
@@ -162,12 +172,16 @@ def _variables(mechanism, scene, eqs, code, p, marked, y0) -> tuple:
                    for i, v in enumerate(states)]
     users = _parameter_users(mechanism, eqs)
     parameters = []
-    for symbol, value in zip(code.parameters, p):
-        kind = "input" if symbol.name in marked else "parameter"
-        text = mechanism.parameter_units.get(symbol.name)
-        si = known[sp.Symbol(symbol.name)].si if text else ""
-        parameters.append(Variable(symbol.name, kind, users.get(symbol.name, ""),
-                                   unit(si if si != "1" else ""), value))
+    names, p, dependent = parameter_values
+    for name, value in zip(names, p):
+        kind = "input" if name in marked else "calculated" if name in dependent else \
+            "parameter"
+        text = mechanism.parameter_units.get(name)
+        si = known[sp.Symbol(name)].si if text else ""
+        about = f"{name} = {dependent[name]}; " if name in dependent else ""
+        parameters.append(Variable(name, kind, about + users.get(name, ""),
+                                   unit(si if si != "1" else ""),
+                                   None if name in dependent else value))
     out_units = output_units(mechanism, scene)
     outputs = [Variable(label, "output", f"scene output {item}" if item != label
                         else f"scene output", unit(out_units.get(label, "")))
@@ -176,6 +190,10 @@ def _variables(mechanism, scene, eqs, code, p, marked, y0) -> tuple:
     variables = states + derivatives + parameters + outputs
     seen = {}
     for v in variables:
+        if v.name in RESERVED or (v.name.startswith("der(") and v.kind != "derivative"):
+            raise FmuError(f"scene {scene.name!r}: {v.kind} {v.name!r} takes a name FMI "
+                           "tools reserve (the time, derivatives); rename it (outputs="
+                           "{'new name': ...})")
         if v.name in seen:
             raise FmuError(f"scene {scene.name!r}: {v.kind} {v.name!r} has the name of a "
                            f"{seen[v.name]}; an FMU's variables need distinct names "
@@ -217,7 +235,11 @@ def _identifier(text: str) -> str:
     return ("m_" + identifier) if identifier[0].isdigit() else identifier
 
 
-def _model_source(code, p, y0, scene, guid) -> str:
+def _model_source(code, p, y0, scene, guid, calculated) -> str:
+    """model.c: sizes and start values, the model's functions (``calculated``: the C of
+    ``md_calculated`` and the indices it writes), then the glue."""
+    calculated_source, where = calculated
+
     def array(values):
         return "{" + ", ".join(repr(float(v)) for v in list(values) + [0.0]) + "}"
     directions = "{" + ", ".join(str(int(d)) for _, d in code.stops) + (", " if code.stops
@@ -235,5 +257,8 @@ def _model_source(code, p, y0, scene, guid) -> str:
         "#ifndef M_E", "#define M_E 2.71828182845904523536", "#endif",
         f"static const double START_X[] = {array(y0)};",
         f"static const double START_P[] = {array(p)};",
-        f"static const int STOP_DIRECTION[] = {directions};", ""]
-    return "\n".join(header) + code.source + '\n\n#include "fmi2_glue.c"\n'
+        f"static const int STOP_DIRECTION[] = {directions};",
+        f"#define NCALC {len(where)}",
+        "static const int CALCULATED[] = {" + "".join(f"{j}, " for j in where) + "0};", ""]
+    return "\n".join(header) + code.source + "\n\n" + calculated_source + \
+        '\n\n#include "fmi2_glue.c"\n'

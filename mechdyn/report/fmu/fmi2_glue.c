@@ -1,8 +1,9 @@
 /* mechdyn's FMI 2.0 Model Exchange glue: one instance holds time, state x = [q, u],
    parameters p (inputs among them), the switch flags w and the stop conditions' last
    sides. model.c defines the sizes and md_system, md_outputs, md_indicators, then
-   includes this file. Value references: x (2 NQ), der(x) (2 NQ), p (NP), outputs
-   (NOUT, then kinetic, potential and total energy). */
+   includes this file. Value references: x (2 NQ), der(x) (2 NQ), p (NP: the
+   CALCULATED ones md_calculated computes from the others), outputs (NOUT, then
+   kinetic, potential and total energy). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -74,10 +75,14 @@ static int derivatives(double t, const double *x, const double *p, const double 
 
 /* The side of each switching function; one that is exactly zero takes the side it
    moves to (looked up a moment later along the motion, its own flag unlocked), as
-   mechdyn's driver does. */
+   mechdyn's driver does; one still zero there (a position at rest: its speed is zero)
+   takes the positive side unless the motion that side's equations start leaves it
+   (looked up at q + tau^2/2 a, u + tau a: by the acceleration), as the driver's event
+   at the start then decides. */
 static void update_flags(Instance *m)
 {
     double z[NZ + 1], ahead[NZ + 1], dx[NX], x[NX], w[NSW + 1];
+    double span = m->span > 0.0 ? m->span : 1.0, delta = 1e-9 * span, tau = 3e-5 * span;
     int k, i, zero = 0;
     md_indicators(m->t, m->x, m->p, m->w, z);
     for (k = 0; k < NSW; k++) {
@@ -85,12 +90,30 @@ static void update_flags(Instance *m)
         zero |= w[k] == 0.0;
     }
     if (zero) {
-        double delta = 1e-9 * (m->span > 0.0 ? m->span : 1.0);
         derivatives(m->t, m->x, m->p, w, dx);
         for (i = 0; i < NX; i++) x[i] = m->x[i] + delta * dx[i];
         md_indicators(m->t + delta, x, m->p, w, ahead);
+        zero = 0;
         for (k = 0; k < NSW; k++)
-            if (w[k] == 0.0) w[k] = sign_of(ahead[NSTOP + k]);
+            if (w[k] == 0.0) {
+                w[k] = sign_of(ahead[NSTOP + k]);
+                zero |= w[k] == 0.0;
+            }
+    }
+    if (zero) {
+        int undecided[NSW + 1];
+        for (k = 0; k < NSW; k++) {
+            undecided[k] = w[k] == 0.0;
+            if (undecided[k]) w[k] = 1.0;
+        }
+        derivatives(m->t, m->x, m->p, w, dx);
+        for (i = 0; i < NQ; i++) {
+            x[i] = m->x[i] + tau * dx[i] + 0.5 * tau * tau * dx[NQ + i];
+            x[NQ + i] = m->x[NQ + i] + tau * dx[NQ + i];
+        }
+        md_indicators(m->t + tau, x, m->p, w, ahead);
+        for (k = 0; k < NSW; k++)
+            if (undecided[k] && ahead[NSTOP + k] < 0.0) w[k] = -1.0;
     }
     for (k = 0; k < NSW; k++) m->w[k] = w[k] == 0.0 ? 1.0 : w[k];
 }
@@ -110,6 +133,23 @@ static int stop_reached(Instance *m)
         if (now != 0.0) m->side[k] = now;
     }
     return reached;
+}
+
+/* The calculated parameters (given as expressions of others) from the tunable ones. */
+static void calculate(Instance *m)
+{
+    double out[NCALC + 1];
+    int i;
+    md_calculated(m->t, m->x, m->p, m->w, out);
+    for (i = 0; i < NCALC; i++) m->p[CALCULATED[i]] = out[i];
+}
+
+static int is_calculated(int k)
+{
+    int i;
+    for (i = 0; i < NCALC; i++)
+        if (CALCULATED[i] == k) return 1;
+    return 0;
 }
 
 static double real_value(Instance *m, fmi2ValueReference vr)
@@ -152,6 +192,7 @@ FMI2_Export fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2St
     strncpy(m->name, name ? name : "mechdyn", sizeof(m->name) - 1);
     memcpy(m->x, START_X, sizeof(double) * NX);
     memcpy(m->p, START_P, sizeof(double) * (NP + 1));
+    calculate(m);
     m->t = START_TIME;
     m->span = STOP_TIME - START_TIME;
     m->last_event = -INFINITY;
@@ -189,6 +230,7 @@ FMI2_Export fmi2Status fmi2Reset(fmi2Component c)
     Instance *m = (Instance *)c;
     memcpy(m->x, START_X, sizeof(double) * NX);
     memcpy(m->p, START_P, sizeof(double) * (NP + 1));
+    calculate(m);
     memset(m->w, 0, sizeof(m->w));
     m->t = START_TIME;
     m->terminated = m->quick_events = 0;
@@ -214,9 +256,11 @@ FMI2_Export fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[
     size_t i;
     for (i = 0; i < n; i++) {
         if (vr[i] < NX) m->x[vr[i]] = value[i];
-        else if (vr[i] >= 2 * NX && vr[i] < 2 * NX + NP) m->p[vr[i] - 2 * NX] = value[i];
-        else return fmi2Error;          /* derivatives and outputs are computed */
+        else if (vr[i] >= 2 * NX && vr[i] < 2 * NX + NP && !is_calculated(vr[i] - 2 * NX))
+            m->p[vr[i] - 2 * NX] = value[i];
+        else return fmi2Error;          /* derivatives, calculated parameters, outputs */
     }
+    calculate(m);
     return fmi2OK;
 }
 
