@@ -128,7 +128,8 @@ def test_generated_jacobian_equals_the_exact_derivative(model_name, scene_name):
         p = compiled.parameter_vector(values, signs)
         where = f"{model_name}/{scene_name} at t = {time}, y = {y}, signs {signs}"
         size = eqs.dof + len(eqs.constraints)
-        rounding = max(1e-12, 16 * size * kappa * EPS) * np.abs(rhs).max()   # docstring
+        # rhs rounds as a stable solve of K (docstring): 16 N kappa eps max|rhs|, >= 1e-12
+        rounding = max(1e-12, 16 * size * kappa * EPS) * np.abs(rhs).max()
         assert np.allclose(compiled.rhs(time, np.array(y), p), rhs, rtol=1e-10,
                            atol=rounding), where
         got = compiled.jac(time, np.array(y), p)
