@@ -97,6 +97,7 @@ def test_scotch_yoke_driving_moment_mean_rms_and_peak_over_a_revolution():
     # M = A sin(2 phi) / 2 + B sin(phi), A = m3 l^2 omega^2 = 2, B = F3 l = 1: both terms
     # average to zero over a revolution and are orthogonal, so RMS^2 = A^2/8 + B^2/2.
     A, B = 2.0 * 0.1**2 * 10**2, 10.0 * 0.1
+    # mean and RMS are quad's at epsabs = epsrel = 1e-12 (mechdyn.derive.analytic)
     assert needed.mean == pytest.approx(0.0, abs=1e-12)
     assert needed.rms == pytest.approx(math.sqrt(A**2 / 8 + B**2 / 2), rel=1e-10)
     angles = np.linspace(0, 2 * np.pi, 200001)
@@ -173,6 +174,7 @@ def test_spring_case_2_time_by_quadrature_matches_the_arcsine():
     # w = sqrt(k/J) = 2; phi = (3/2) sin(2 t): t(phi) = asin(2 phi / 3) / 2, the stop at
     # a quarter period pi / 4, phi = 3/2.
     angles = np.array([0.0, 0.5, 1.0, 1.4])
+    # t(phi) is scipy's quad asked for 1e-12 relative (mechdyn.derive.analytic._QUAD)
     assert sol.function("t(phi)")(angles) == pytest.approx(np.arcsin(2 * angles / 3) / 2,
                                                           rel=1e-12)
     assert float(sol.stop.t) == pytest.approx(math.pi / 4, rel=1e-10)

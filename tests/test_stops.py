@@ -33,6 +33,8 @@ def test_lever_bounces_by_the_law_of_restitution_and_rests_when_the_series_ends(
         assert b.time - a.time == pytest.approx(2 * E ** (k + 1) * omega_1 * J / M, rel=1e-8)
     rest = res.events[-1]
     assert rest.kind == "contact" and rest.name == "end stop"
+    # The series is cut once a bounce would rise less than 1e-12 (1 + 0.5) (contacts.py):
+    # omega < 2.4e-5, whose remaining bounces last 2 J omega / (M (1 - E)) < 6.1e-7.
     assert rest.time == pytest.approx(t_1 + 2 * E * omega_1 * J / ((1 - E) * M), abs=1e-6)
     # at rest on the upper limit: the stop pushes back the whole drive
     assert res.final("end stop") == pytest.approx(-M, rel=1e-12)
