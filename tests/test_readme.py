@@ -39,3 +39,14 @@ def test_the_readme_shows_what_python_prints_of_three_results():
     shown = [line for block in BLOCKS for line in block.splitlines() if SHOWN.match(line)]
     assert len(shown) >= 3
 
+
+
+def test_ci_runs_the_readmes_install_and_test_command():
+    # .ci/run must install the project the README's way and run the README's test
+    # command: both are read off the README's first screen, so they cannot drift apart.
+    first_block = re.search(r"```bash\n(.*?)```", (ROOT / "README.md").read_text(), re.S)[1]
+    test_line = next(line for line in first_block.splitlines() if "pytest" in line)
+    install, command = (part.split("#")[0].strip() for part in test_line.split("&&"))
+    ci = (ROOT / ".ci" / "run").read_text().splitlines()
+    assert install in ci and command in ci
+    assert ci.index(install) < ci.index(command)
