@@ -27,6 +27,7 @@ skips derivation and compilation.
 from __future__ import annotations
 
 from mechdyn import cache
+from mechdyn.progress import COMPILE_DELAY, announce
 from mechdyn.compile.generate import generate
 from mechdyn.compile.generated import CompiledScene, SingularMassError
 from mechdyn.compile.scene_key import declaration_key
@@ -51,10 +52,17 @@ def compile_scene(mechanism, scene) -> CompiledScene:
         except Exception:            # authentic but malformed: rebuilt and overwritten
             compiled = None
     if compiled is None:
-        meta, source = generate(equations(mechanism, scene), select(mechanism, scene))
+        with announce(f"deriving and generating the code of scene {_shown(scene)}",
+                      delay=COMPILE_DELAY, cached=cache.cache_dir() is not None):
+            meta, source = generate(equations(mechanism, scene), select(mechanism, scene))
         compiled = CompiledScene(meta, source, key)
         cache.store(f"scene-{key}.json", {"meta": meta, "source": source})
     _memory_cache[key] = compiled
     return compiled
+
+
+def _shown(scene) -> str:
+    """A scene as the announcement names it."""
+    return "(all elements)" if scene is None else repr(scene.name)
 
 

@@ -39,6 +39,7 @@ from mechdyn import cache
 from mechdyn.atomic import write_text
 from mechdyn.compile.generated import TABLE_HELPERS
 from mechdyn.compile.reroll import rerolled, tables_text
+from mechdyn.progress import COMPILE_DELAY, announce
 
 __all__ = ["available", "numba_functions", "mode_functions", "loop_projection"]
 
@@ -194,8 +195,15 @@ def _module_text(sources, names) -> str:
 
 
 def _load(key, text):
-    """The compiled module of ``text`` (its functions as attributes)."""
+    """The compiled module of ``text`` (its functions as attributes); a compilation
+    over ``COMPILE_DELAY`` seconds is announced."""
     directory = cache.cache_dir()
+    with announce("compiling a scene's functions for the compiled kernels",
+                  delay=COMPILE_DELAY, cached=directory is not None):
+        return _load_announced(directory, key, text)
+
+
+def _load_announced(directory, key, text):
     if directory is None:               # caching off: nothing written, not even to /tmp
         return _in_memory(key, text)
     try:
