@@ -42,8 +42,9 @@ def declaration_key(mechanism, scene) -> str:
     memo = getattr(mechanism, "_memo", {})
     hit = memo.get(("key", id(scene)))
     if hit is None or hit[0] is not scene:
-        hit = memo[("key", id(scene))] = (scene, _declared(mechanism, scene))
-    produced = foreign_works(mechanism, scene)
+        hit = memo[("key", id(scene))] = (scene, _declared(mechanism, scene), any(
+            foreign(type(element)) for element in mechanism.elements.values()))
+    produced = foreign_works(mechanism, scene) if hit[2] else {}
     if not produced:
         return hit[1]
     parts = [hit[1], sorted((name, content(work)) for name, work in produced.items())]
