@@ -197,6 +197,22 @@ def test_what_work_reads_changed_in_place_gives_the_fresh_result(module, change)
     assert md.same(disc.reduced_moment(), -4 * k * sp.Symbol("phi"))
 
 
+def test_a_worker_that_would_run_other_code_says_so(module):
+    """A module constant changed in the calling process is not a spawned worker's (it
+    imports the module afresh): its rows fail by name instead of holding cos(1)."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+    disc = disc_with(module.Spring("s", k=k, along=phi))
+    module.GAIN = 4.0
+    here = md.sweep(disc, SWING, {k: 1.0}, {"k": [1.0, 2.0]}, progress=False)
+    assert here["final:phi"] == pytest.approx([np.cos(2.0), np.cos(np.sqrt(8.0))], abs=1e-8)
+    with ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn")) as pool:
+        there = md.sweep(disc, SWING, {k: 1.0}, {"k": [1.0, 2.0]}, progress=False,
+                         executor=pool)
+    assert all("other equations in this worker process" in row["error"]
+               for row in there.rows), there.rows
+
+
 def test_a_closure_gives_its_own_code(module):
     for scale in (1.0, 4.0, 1.0):
         spring = module.make_spring(scale)("s", k=k, along=phi)
