@@ -142,6 +142,44 @@ def test_the_compiled_backend_follows_an_edit_in_a_new_process(tmp_path):
     assert run_script(tmp_path, backend="compiled") == pytest.approx(np.cos(2.0), abs=1e-7)
 
 
+MODEL = """import sympy as sp
+import mechdyn as md
+from spring_module import Spring
+
+phi = md.coordinate("phi")
+k = sp.Symbol("k", positive=True)
+mechanism = md.Mechanism("disc", [phi])
+mechanism.link("disc", J=1, angle=phi)
+mechanism.add(Spring("spring", k=k, along=phi))
+params = {k: 1.0}
+scenes = {"swing": md.Scene("swing", initial={phi: 1, md.speed(phi): 0}, t_end=1,
+                            rtol=1e-10, backend="scipy")}
+"""
+
+
+def command_line(folder, cache=None) -> str:
+    """The ``phi:`` line of ``mechdyn simulate model.py --scene swing`` (a new process)."""
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(folder), str(ROOT)])}
+    if cache is not None:
+        env["MECHDYN_CACHE"] = cache
+    done = subprocess.run([sys.executable, "-m", "mechdyn.cli", "simulate",
+                           str(folder / "model.py"), "--scene", "swing"],
+                          capture_output=True, text=True, env=env, timeout=600, cwd=folder)
+    assert done.returncode == 0, done.stderr
+    return next(line for line in done.stdout.splitlines() if line.strip().startswith("phi:"))
+
+
+def test_the_command_line_follows_an_edited_module_constant(tmp_path):
+    """Case 2 of issue 37: ``mechdyn simulate`` in a new process printed 0.540302."""
+    write_module(tmp_path)
+    (tmp_path / "model.py").write_text(MODEL)
+    assert "final 0.540302 rad" in command_line(tmp_path)            # cos 1
+    write_module(tmp_path, gain=4.0)
+    line = command_line(tmp_path)
+    assert "final -0.416147 rad" in line                               # cos 2
+    assert line == command_line(tmp_path, cache="off")
+
+
 # ----------------------------------------------- memory and derivation, this process
 @pytest.fixture
 def module(tmp_path, monkeypatch):
