@@ -10,7 +10,9 @@ mechdyn package only (a program's own numba functions keep numba's usual places,
 after the source folder's path, as numba names the folders of ``NUMBA_CACHE_DIR``, so two
 installed copies never overwrite each other's. Without a disk cache (``MECHDYN_CACHE=off``,
 or a folder that cannot be trusted or written) ``CACHED`` is False: the functions are
-decorated with ``cache=CACHED`` and compiled in memory, once per process.
+decorated with ``cache=CACHED`` and compiled in memory, once per process; where a
+write is refused (a full disk) the function is kept for the process, with the cache's
+one warning.
 
 >>> from pathlib import Path
 >>> place = folder_for(Path(__file__).with_name("kernels") / "loop.py")
@@ -19,6 +21,7 @@ True
 """
 from __future__ import annotations
 
+from contextlib import suppress
 from pathlib import Path
 
 from numba.core import caching
@@ -33,13 +36,14 @@ PACKAGE = Path(__file__).resolve().parent
 _IMPL = getattr(caching, "CacheImpl", None) or getattr(caching, "_CacheImpl", None)
 _MIXIN = getattr(caching, "_SourceFileBackedLocatorMixin", None)
 _LOCATOR = getattr(caching, "_CacheLocator", None)
+_FILE = getattr(caching, "IndexDataCacheFile", None)
 
 
 def _root():
     """``<cache folder>/kernels``, made private; None without a usable disk cache or
     without the numba internals this module needs (numba 0.61 to 0.68 have them)."""
     directory = cache.cache_dir()
-    if directory is None or None in (_IMPL, _MIXIN, _LOCATOR):
+    if directory is None or None in (_IMPL, _MIXIN, _LOCATOR, _FILE):
         return None
     try:
         (directory / "kernels").mkdir(mode=0o700, exist_ok=True)
@@ -77,7 +81,23 @@ if CACHED:
         def from_function(cls, py_func, py_file):
             if folder_for(py_file) is None:
                 return None
-            return super().from_function(py_func, py_file)
+            locator = cls(py_func, py_file)
+            with suppress(OSError):      # a full disk: saving fails, and says so, later
+                locator.ensure_cache_path()
+            return locator
+
+    def _save_or_not(self, key, data, _save=_FILE.save):
+        """numba's save, except that a write mechdyn's cache folder refuses (a full
+        disk, a file size limit) leaves the function compiled for this process only,
+        with the cache's one warning (numba removes its partial file)."""
+        try:
+            _save(self, key, data)
+        except OSError as error:
+            if Path(self._cache_path).resolve().is_relative_to(_ROOT.resolve()):
+                cache.write_failed(_ROOT.parent, error)
+            else:
+                raise
 
     if not any(c.__name__ == "_MechdynLocator" for c in _IMPL._locator_classes):
         _IMPL._locator_classes.insert(0, _MechdynLocator)
+        _FILE.save = _save_or_not
