@@ -323,7 +323,8 @@ def process_table(repeats):
     imports numpy and scipy.integrate (issue 15's reference for a warm CLI run)."""
     with tempfile.TemporaryDirectory() as tmp:
         Path(tmp, "model.py").write_text(MODEL)
-        env = {**os.environ, "NUMBA_CACHE_DIR": str(Path(tmp, "cache"))}
+        env = {**os.environ, "NUMBA_CACHE_DIR": str(Path(tmp, "cache")),    # the model's
+               "MECHDYN_CACHE": str(Path(tmp, "mechdyn"))}                  # the kernels'
         probe = PROBE.format(root=str(ROOT), tmp=tmp)
 
         def measure(code=probe):

@@ -38,7 +38,8 @@ from pathlib import Path
 
 from mechdyn.errors import MechdynWarning
 
-__all__ = ["cache_dir", "load", "store", "load_bytes", "store_bytes", "CacheWarning"]
+__all__ = ["cache_dir", "load", "store", "load_bytes", "store_bytes", "write_failed",
+           "CacheWarning"]
 
 KEY_NAME = "key"
 _KEY_BYTES = 32
@@ -114,11 +115,18 @@ def store_bytes(name: str, data: bytes) -> bool:
     try:
         _write_atomically(path, blob)
     except OSError as error:
-        _read_only.add(directory)
-        _warn(directory, f"cannot write to it ({_reason(error)}); runs go on without "
-              "storing compiled code")
+        write_failed(directory, error)
         return False
     return True
+
+
+def write_failed(directory: Path, error: OSError):
+    """Note that ``directory`` refused a write (read-only, full, a file size limit):
+    one warning per directory and reason, and no more attempts by :func:`store_bytes`
+    (also for what numba writes there, :mod:`mechdyn.numba_cache`)."""
+    _read_only.add(directory)
+    _warn(directory, f"cannot write to it ({_reason(error)}); runs go on without "
+          "storing compiled code")
 
 
 def load(name: str) -> dict | None:

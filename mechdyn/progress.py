@@ -33,7 +33,9 @@ import threading
 import time
 from contextlib import contextmanager
 
-__all__ = ["ProgressLine", "announce"]
+__all__ = ["ProgressLine", "announce", "COMPILE_DELAY"]
+
+COMPILE_DELAY = 1.0     # seconds of a compilation before it is announced
 
 
 class ProgressLine:
@@ -90,11 +92,14 @@ class ProgressLine:
 
 
 @contextmanager
-def announce(what, expected, stream=None, delay=3.0, every=5.0):
+def announce(what, expected=None, stream=None, delay=3.0, every=5.0, cached=True):
     """Announce a one-time wait on ``stream`` (stderr) once it has lasted ``delay``
-    seconds: what happens, the ``expected`` seconds, and the seconds elapsed every
+    seconds: what happens, the ``expected`` seconds (if known), where its result is kept
+    (``cached``: on disk, else for this process), and the seconds elapsed every
     ``every`` seconds (a numba compilation gives no finer progress; it runs in foreign
     code that releases the GIL, so a thread can count). Short waits print nothing.
+    Every compilation mechdyn does is announced this way, after ``COMPILE_DELAY``
+    seconds (the kernels' after 3, as loading them from disk may take 2).
 
     >>> import io
     >>> stream = io.StringIO()
@@ -112,7 +117,9 @@ def announce(what, expected, stream=None, delay=3.0, every=5.0):
         if done.wait(delay):
             return
         shown.append(True)
-        stream.write(f"mechdyn: {what} (once, about {expected:.0f} s; cached on disk) ...\n")
+        about = "" if expected is None else f", about {expected:.0f} s"
+        kept = "cached on disk" if cached else "kept for this process"
+        stream.write(f"mechdyn: {what} (once{about}; {kept}) ...\n")
         stream.flush()
         while not done.wait(every):
             stream.write(f"mechdyn: {what}: {time.monotonic() - started:.0f} s\n")

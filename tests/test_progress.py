@@ -51,9 +51,13 @@ def test_a_phase_counts_its_own_time():
 
 
 @pytest.fixture
-def fake_clocks(monkeypatch):
+def fake_clocks(monkeypatch, capsys):
     """The driver reports at every chunk of steps (its clock jumps 1 s a reading), the
-    progress line is past its delay at once (10 s a reading)."""
+    progress line is past its delay at once (10 s a reading); the scenes are compiled
+    first (a compilation over a second is announced on stderr)."""
+    for model, scene in ((HOIST, "lift_start"), (PRESS, "startup+steady")):
+        assert cli.main(["simulate", model, "--scene", scene, "--no-progress"]) == 0
+    capsys.readouterr()
     monkeypatch.setattr(driver, "time", types.SimpleNamespace(perf_counter=counter(1.0)))
     monkeypatch.setattr(progress, "time", types.SimpleNamespace(monotonic=counter(10.0)))
 

@@ -5,7 +5,10 @@ unpickled once per worker, whose ``compile_scene`` memory cache then holds the s
 generated code and whose kernels load its compiled form from the disk cache
 (:func:`_load_kernels`): a worker neither derives nor compiles. A point's row holds the
 swept values, ``t_end``, ``reason``, the final states, each output's peak and ``error``
-(a failing point's message; the sweep goes on). See :mod:`mechdyn.analyse.sweeps`.
+(a failing point's message; the sweep goes on). A worker whose scene has another key
+than the calling process's (an element reads a value changed there in place) fails
+each point with that said, instead of running other code. See
+:mod:`mechdyn.analyse.sweeps`.
 """
 from __future__ import annotations
 
@@ -39,6 +42,10 @@ class _Job:
 
 
 _jobs: dict = {}          # per worker process: digest -> _Job
+_OTHER_CODE = ("the mechanism gives other equations in this worker process than in the "
+               "calling one (an element's work() reads a value that was changed in the "
+               "calling process after its module was imported?); run the sweep with "
+               "workers=1, or change the value in the module itself")
 
 
 def _install(digest, blob):
@@ -84,6 +91,8 @@ def _row(job, point) -> dict:
     row = dict(zip(job.names, point))
     runs = _repeated_runs(job)
     try:
+        if runs is not None and runs.compiled.key != job.key:
+            raise RuntimeError(_OTHER_CODE)
         if runs is None:
             result = job.mechanism.simulate(job.scene, {**job.params, **row})
         else:

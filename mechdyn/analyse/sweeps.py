@@ -122,15 +122,17 @@ def sweep(mechanism, scene, params, grid, executor=None, out=None, progress=True
     compiled = compile_scene(mechanism, scene)
     names, points = _grid_points(grid, compiled, max_points, mechanism.parameter_units)
     fixed_names = [n for n in compiled.param_names if n not in names]
-    fixed = dict(zip(fixed_names, values.vector(fixed_names)))
+    derived = values.depending_on(names)      # they change with the swept values
+    fixed = {name: str(derived[name]) if name in derived else value
+             for name, value in zip(fixed_names, values.vector(fixed_names))}
     columns = _columns(names, compiled)
     record = _record_of(mechanism, scene, compiled, names, fixed)
     with SweepFile(out, columns, names, record, fresh=fresh, wait=wait) as table:
         todo = [point for point in points if point not in table.rows]
         if todo:
             refused = values.refused_points(names, todo)   # checked at once, not per point
-            job = _Job(mechanism, scene, values.numbers, tuple(names), compiled.key,
-                       compiled.meta, compiled.source,
+            job = _Job(mechanism, scene, {**values.numbers, **derived}, tuple(names),
+                       compiled.key, compiled.meta, compiled.source,
                        {todo[index]: error for index, error in refused.items()})
             blob = _pickled(job, mechanism)     # before any row: workers unpickle it
             bar = _bar(progress, len(points), len(table.rows))

@@ -17,10 +17,12 @@ from math import nan, sqrt
 
 from numba import njit
 
+from mechdyn.numba_cache import CACHED
+
 __all__ = ["band_factor", "band_solve", "band_solve_rows", "band_view"]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=CACHED, error_model="numpy")
 def band_factor(m, bw):
     """Factor ``M = L L'`` in place: ``m[i, d]`` becomes ``L[i, i - d]``."""
     n = m.shape[0]
@@ -37,7 +39,7 @@ def band_factor(m, bw):
         m[i, 0] = sqrt(total) if total > 0.0 else nan
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=CACHED, error_model="numpy")
 def band_solve(m, bw, b):
     """Solve ``L L' x = b`` in place in ``b`` with the factor of :func:`band_factor`."""
     n = m.shape[0]
@@ -53,7 +55,7 @@ def band_solve(m, bw, b):
         b[i] = total / m[i, 0]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=CACHED, error_model="numpy")
 def band_solve_rows(m, bw, out, first):
     """Solve ``L L' X = B`` in place for ``B = out[first:first + n, :]`` (every column)."""
     n = m.shape[0]
@@ -70,7 +72,7 @@ def band_solve_rows(m, bw, out, first):
             out[first + i, c] = total / m[i, 0]
 
 
-@njit(cache=True)
+@njit(cache=CACHED)
 def band_view(p, first, n, bw):
     """The factored band ``n x (bw + 1)`` stored in ``p`` from ``first`` (a constant mass
     matrix factored once per parameter vector), viewed without a copy."""

@@ -10,9 +10,9 @@ symbolically.
 
 A compiled scene is cached in memory and on disk (:mod:`mechdyn.cache`: a private
 directory of authenticated entries, ``$MECHDYN_CACHE``, default ``~/.cache/mechdyn``;
-``MECHDYN_CACHE=off`` disables the disk), keyed by a hash of the mechanism's declaration
-and the scene's effects, rigid springs, stop conditions and outputs: a second run of the
-same model skips derivation and compilation.
+``MECHDYN_CACHE=off`` disables the disk), keyed by everything the code depends on
+(:mod:`mechdyn.compile.scene_key`; ``docs/caching.md``): a second run of the same model
+skips derivation and compilation.
 
 >>> import mechdyn as md
 >>> phi = md.coordinate("phi")
@@ -26,71 +26,17 @@ same model skips derivation and compilation.
 """
 from __future__ import annotations
 
-import hashlib
-from pathlib import Path
-
-import sympy as sp
-
-from mechdyn.version import __version__
-
 from mechdyn import cache
+from mechdyn.progress import COMPILE_DELAY, announce
 from mechdyn.compile.generate import generate
 from mechdyn.compile.generated import CompiledScene, SingularMassError
-from mechdyn.declare.element_base import behaviour_key
+from mechdyn.compile.scene_key import declaration_key
 from mechdyn.derive.equations import equations
 from mechdyn.derive.selection import select
 
 __all__ = ["CompiledScene", "compile_scene", "SingularMassError"]
 
 _memory_cache: dict = {}
-
-
-# ------------------------------------------------------------------------- caching
-def _generator_hash() -> str:
-    """A hash of the modules that shape generated code, so editing them voids the cache."""
-    package = Path(__file__).parents[1]
-    digest = hashlib.sha256()
-    for module in ("derive/lagrange.py", "derive/terms.py", "compile/codegen.py",
-                   "compile/generate.py", "compile/mass_solve.py", "compile/band_linalg.py",
-                   "compile/reroll.py", "compile/numba_model.py",
-                   "compile/generated.py", "compile/compiler.py", "declare/elements.py",
-                   "symbols.py", "compile/loop_code.py", "compile/output_code.py",
-                   "declare/unilateral.py", "derive/selection.py", "declare/element_base.py"):
-        digest.update((package / module).read_bytes())
-    return digest.hexdigest()[:16]
-
-
-_GENERATOR = _generator_hash()
-
-
-def declaration_key(mechanism, scene) -> str:
-    """A hash of everything the compiled code depends on (remembered for a scene until
-    the mechanism changes)."""
-    memo = getattr(mechanism, "_memo", {})
-    hit = memo.get(("key", id(scene)))
-    if hit is not None and hit[0] is scene:
-        return hit[1]
-    key = _declaration_key(mechanism, scene)
-    memo[("key", id(scene))] = (scene, key)
-    return key
-
-
-def _declaration_key(mechanism, scene) -> str:
-    names, rigid = select(mechanism, scene).key
-    parts = [__version__, _GENERATOR, [q.func.__name__ for q in mechanism.coordinates],
-             sorted(mechanism.parameter_units.items())]   # units: checked when derived
-    for element in mechanism.elements.values():
-        parts.append([behaviour_key(type(element)), element.name, list(element.tags),
-                      sorted((k, sp.srepr(v)) for k, v in element.expressions().items())])
-    parts += [list(names), [list(r) for r in rigid]]
-    if mechanism.constraints:
-        parts.append([q.func.__name__ for q in mechanism.independent])
-    if scene is not None:
-        parts.append([[label, sp.srepr(o) if isinstance(o, sp.Basic) else str(o)]
-                      for label, o in scene.labelled_outputs()])
-        parts.append([[sp.srepr(c.expression), sp.srepr(c.value), c.direction, repr(c)]
-                      for c in scene.until])
-    return hashlib.sha256(repr(parts).encode()).hexdigest()[:32]
 
 
 def compile_scene(mechanism, scene) -> CompiledScene:
@@ -106,10 +52,17 @@ def compile_scene(mechanism, scene) -> CompiledScene:
         except Exception:            # authentic but malformed: rebuilt and overwritten
             compiled = None
     if compiled is None:
-        meta, source = generate(equations(mechanism, scene), select(mechanism, scene))
+        with announce(f"deriving and generating the code of scene {_shown(scene)}",
+                      delay=COMPILE_DELAY, cached=cache.cache_dir() is not None):
+            meta, source = generate(equations(mechanism, scene), select(mechanism, scene))
         compiled = CompiledScene(meta, source, key)
         cache.store(f"scene-{key}.json", {"meta": meta, "source": source})
     _memory_cache[key] = compiled
     return compiled
+
+
+def _shown(scene) -> str:
+    """A scene as the announcement names it."""
+    return "(all elements)" if scene is None else repr(scene.name)
 
 

@@ -22,6 +22,8 @@ import math
 import numpy as np
 from numba import njit
 
+from mechdyn.numba_cache import CACHED
+
 from mechdyn.kernels.linalg import lu_factor, lu_solve
 
 __all__ = ["LAYOUT_NAMES", "constrained", "group_margins", "frozen_speeds", "rank_margin",
@@ -82,7 +84,7 @@ def _loss(buf, lay, i, x, tolerance):
     return max(s1 * x + o1, s2 * x + o2)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=CACHED, error_model="numpy")
 def _solve(buf, lay, p, m, sliding, count, lines, x):
     """One linear solve with the gears' ``lines``; False where it is singular."""
     n, loops, np_ = lay[N], lay[L], lay[NP]
@@ -124,7 +126,7 @@ def _solve(buf, lay, p, m, sliding, count, lines, x):
     return True
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=CACHED, error_model="numpy")
 def _misfit(buf, lay, p, m, sliding, count, lines, x):
     """How far the sliding gears' lines are from the ones their mesh moments select."""
     n, loops = lay[N], lay[L]
@@ -145,7 +147,7 @@ def _misfit(buf, lay, p, m, sliding, count, lines, x):
     return worst
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=CACHED, error_model="numpy")
 def constrained(buf, lay, p, x):
     """Accelerations, loop multipliers, group forces and gear losses into ``x``
     (length ``n + loops + groups + gears``) from the ``terms`` in ``buf``; False where
@@ -178,7 +180,7 @@ def constrained(buf, lay, p, x):
     return best < math.inf
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=CACHED, error_model="numpy")
 def frozen_speeds(lay, p, out):
     """Coordinates held by stuck elements: exactly zero speed and acceleration."""
     n = lay[N]
@@ -189,7 +191,7 @@ def frozen_speeds(lay, p, out):
         out[n + i] = 0.0
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=CACHED, error_model="numpy")
 def group_margins(buf, lay, p, x, ok, out):
     """Each stuck group's holding margin into ``out[E + g]``, the gaps' offsets taken
     off their entries; returns where the mode's numbers end in ``p``."""
@@ -230,7 +232,7 @@ def group_margins(buf, lay, p, x, ok, out):
     return at + lay[GAPS]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=CACHED, error_model="numpy")
 def rank_margin(buf, lay):
     """The smallest singular value of the loops' gradients ``G`` with every column
     scaled to unit length (:func:`mechdyn.compile.loop_numeric.rank_margin`)."""
@@ -254,7 +256,7 @@ def rank_margin(buf, lay):
     return values[loops - 1] if values.shape[0] >= loops else 0.0
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=CACHED, error_model="numpy")
 def least_change(grads, residual):
     """The smallest ``x`` with ``grads x = residual`` (``grads`` m x n of full row rank:
     ``x = G' (G G')^-1 r``, LU with partial pivoting); least squares (LAPACK) where

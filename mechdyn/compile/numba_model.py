@@ -12,7 +12,9 @@ as ``rhs`` and ``events`` together.
 
 Compiled code is kept on disk, in the trusted cache (:mod:`mechdyn.cache`): the module
 and numba's cache files (pickles, so loading them runs code) go into a folder of their
-own, and an authenticated manifest records the SHA-256 of every file in it. They are
+own, named by the scene's key (which covers all of mechdyn's sources, so numba's cache
+of a module never outlives an edit of the numerics it calls), and an authenticated
+manifest records the SHA-256 of every file in it. They are
 loaded only when every file matches the manifest; otherwise the folder is wiped and the
 code compiled again. Without a disk cache the code is compiled in a temporary folder for
 the process; where the cache cannot be written (a full disk), in memory.
@@ -32,13 +34,13 @@ import math
 import shutil
 import sys
 from contextlib import suppress
-from pathlib import Path
 from types import SimpleNamespace
 
 from mechdyn import cache
 from mechdyn.atomic import write_text
 from mechdyn.compile.generated import TABLE_HELPERS
 from mechdyn.compile.reroll import rerolled, tables_text
+from mechdyn.progress import COMPILE_DELAY, announce
 
 __all__ = ["available", "numba_functions", "mode_functions", "loop_projection"]
 
@@ -135,7 +137,7 @@ def _mode_functions(compiled, jac):
     plain = not _uses_helpers(sources["rhs"])
     names = needed + (["rhs"] if plain else [])
     minors = math.comb(compiled.dof, len(compiled.constraints))
-    text = _module_text(sources, names).replace(_HEADER, _HEADER + _kernels_fingerprint())
+    text = _module_text(sources, names)
     module = _load(compiled.key + "-modes",
                    text + mode_source(compiled.meta, n_params, plain, minors))
     _projections[compiled.key] = getattr(module, "loop_project", None)
@@ -145,17 +147,6 @@ def _mode_functions(compiled, jac):
         analytic = _load(compiled.key + "_jac", _module_text(sources, ("jac",))).jac
     return (model_functions(module.mode_rhs, analytic, module.mode_events),
             model_functions(module.mode_rhs, None, module.mode_events))
-
-
-def _kernels_fingerprint() -> str:
-    """A comment line with the hash of the generic numerics the mode functions call:
-    numba's cache of a scene's module does not follow edits of the modules it calls, so
-    the module text (whose hash the trusted cache checks) changes with them."""
-    package = Path(__file__).parents[1]
-    digest = hashlib.sha256()
-    for name in ("compile/mode_numerics.py", "kernels/linalg.py"):
-        digest.update((package / name).read_bytes())
-    return f"# generic numerics: {digest.hexdigest()[:16]}\n"
 
 
 def _split(source) -> dict:
@@ -194,8 +185,15 @@ def _module_text(sources, names) -> str:
 
 
 def _load(key, text):
-    """The compiled module of ``text`` (its functions as attributes)."""
+    """The compiled module of ``text`` (its functions as attributes); a compilation
+    over ``COMPILE_DELAY`` seconds is announced."""
     directory = cache.cache_dir()
+    with announce("compiling a scene's functions for the compiled kernels",
+                  delay=COMPILE_DELAY, cached=directory is not None):
+        return _load_announced(directory, key, text)
+
+
+def _load_announced(directory, key, text):
     if directory is None:               # caching off: nothing written, not even to /tmp
         return _in_memory(key, text)
     try:

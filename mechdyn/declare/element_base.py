@@ -34,8 +34,6 @@ Work(potential=0, dissipation=0, forces=(), sliding=None, contacts=())
 """
 from __future__ import annotations
 
-import hashlib
-import types
 from dataclasses import dataclass, field
 from typing import ClassVar
 
@@ -44,7 +42,7 @@ from sympy.core.sympify import SympifyError, _sympify
 
 from mechdyn.errors import DeclarationError
 
-__all__ = ["Element", "Work", "Sliding", "Limit", "FRAME", "as_expression", "behaviour_key"]
+__all__ = ["Element", "Work", "Sliding", "Limit", "FRAME", "as_expression"]
 
 FRAME = "frame"     # the name joints use for the fixed frame (ground)
 
@@ -177,39 +175,3 @@ class Element:
         the attribute ``along``, None without one."""
         return getattr(self, "along", None)
 
-
-def behaviour_key(element_type) -> str:
-    """An element class as part of a cache key (compiled code depends on its behaviour):
-    its name, and for a class defined outside mechdyn (whose own modules key the cache
-    by their source) a hash of its methods' code and plain class data, so an edited
-    ``work`` never meets code compiled from the old one.
-
-    >>> behaviour_key(Element)
-    'Element'
-    """
-    digest, foreign = hashlib.sha256(), False
-    for base in element_type.__mro__:
-        if base is object or base.__module__.split(".")[0] == "mechdyn":
-            continue
-        foreign = True
-        for name, value in sorted(vars(base).items()):
-            value = getattr(value, "__func__", getattr(value, "fget", value))
-            if isinstance(getattr(value, "__code__", None), types.CodeType):
-                digest.update(name.encode())
-                _digest_code(value.__code__, digest)
-            elif not name.startswith("__") and isinstance(value, (str, int, float, tuple,
-                                                                   dict, type(None))):
-                digest.update(f"{name}={value!r}".encode())
-    name = element_type.__name__
-    return f"{name}:{digest.hexdigest()[:16]}" if foreign else name
-
-
-def _digest_code(code, digest):
-    digest.update(code.co_code + repr(code.co_names).encode())
-    for constant in code.co_consts:
-        if isinstance(constant, types.CodeType):
-            _digest_code(constant, digest)
-        elif isinstance(constant, frozenset):       # its order varies with the hash seed
-            digest.update(repr(sorted(map(repr, constant))).encode())
-        else:
-            digest.update(repr(constant).encode())

@@ -192,7 +192,7 @@ class ParameterSet(Mapping):
         """
         if self.mechanism is None or not points:
             return {}
-        if set(names) <= self._symbols.keys():
+        if set(names) <= self._symbols.keys() and not self.depending_on(names):
             suspects = suspect_rows(facts_of(self.mechanism), self.numbers, list(names),
                                     points, self._symbols_named)
         else:
@@ -200,11 +200,30 @@ class ParameterSet(Mapping):
         refused = {}
         for index in (i for i, suspect in enumerate(suspects) if suspect):
             try:
-                ParameterSet({**self.numbers, **dict(zip(names, points[index]))},
+                ParameterSet({**self.numbers, **self.depending_on(names),
+                              **dict(zip(names, points[index]))},
                              mechanism=self.mechanism, scene=self.scene)
             except ParameterError as error:
                 refused[index] = error
         return refused
+
+    def depending_on(self, names) -> dict:
+        """``{name: expression}`` of the values given as expressions of ``names``,
+        directly or through each other: what changes with them (a sweep's points).
+
+        >>> P, Q, R = sp.symbols("P Q R")
+        >>> ParameterSet({P: 20, Q: 3 * P, R: Q + 1}).depending_on(["P"])
+        {'Q': 3*P, 'R': Q + 1}
+        """
+        found, changed = {}, {str(name) for name in names}
+        while True:
+            more = {name: value for name, value in self._raw.items()
+                    if name not in found and name not in changed
+                    and isinstance(value, sp.Basic)
+                    and {s.name for s in value.free_symbols} & (changed | found.keys())}
+            if not more:
+                return found
+            found.update(more)
 
     def by_symbol(self) -> dict:
         """``{symbol: float}`` for every numeric value, keyed by the mechanism's symbols

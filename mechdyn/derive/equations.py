@@ -16,24 +16,40 @@ from mechdyn.declare.dimensions import check_elements, check_equations
 from mechdyn.declare.scene_units import check_scene
 from mechdyn.declare.scene import selection
 from mechdyn.derive import transmission
-from mechdyn.derive.lagrange import derive
+from mechdyn.derive.lagrange import derive, element_works
 from mechdyn.errors import SceneError
+from mechdyn.keys import content, foreign
 
-__all__ = ["equations", "check_dimensions", "reduced_inertia", "reduced_moment",
+__all__ = ["equations", "foreign_works", "check_dimensions", "reduced_inertia", "reduced_moment",
            "transmission_functions", "element_output"]
 
 
 def equations(mechanism, scene=None):
     """Lagrange's equations ``M(q) q'' = f(q, q', t)`` (an :class:`Equations`), for all
-    elements or for those a :class:`Scene` calls for; derived once per selection."""
+    elements or for those a :class:`Scene` calls for; derived once per selection, and
+    again when an element whose class is defined outside mechdyn now gives another
+    :class:`~mechdyn.declare.element_base.Work` (its code may read a module constant)."""
     key = selection(mechanism, scene)
-    if key not in mechanism._derived:
+    eqs = mechanism._derived.get(key)
+    if eqs is None or any(content(work) != content(eqs.works[name])
+                          for name, work in foreign_works(mechanism, scene).items()):
         eqs = derive(mechanism, *key)
         if mechanism.parameter_units:
             check_dimensions(mechanism)
             check_equations(eqs, mechanism)
         mechanism._derived[key] = eqs
-    return mechanism._derived[key]
+    return eqs
+
+
+def foreign_works(mechanism, scene=None) -> dict:
+    """``{name: Work}`` of the elements of ``scene`` whose class is defined outside
+    mechdyn, evaluated now: what they produce is their part of every key
+    (``docs/caching.md``)."""
+    names, rigid = selection(mechanism, scene)
+    rigid_names = {name for name, _ in rigid}
+    chosen = [name for name in names if name not in rigid_names
+              and foreign(type(mechanism.elements[name]))]
+    return element_works(mechanism, chosen, rigid) if chosen else {}
 
 
 def check_dimensions(mechanism, scene=None):

@@ -27,7 +27,7 @@ from mechdyn.errors import DerivationError
 from mechdyn.symbols import dotted_symbol, t
 from mechdyn.derive.terms import (ConstraintTerm, ContactTerm, Equations, FrictionTerm, GearTerm)
 
-__all__ = ["derive"]
+__all__ = ["derive", "element_works"]
 
 
 # ----------------------------------------------------------------------- derivation
@@ -38,46 +38,17 @@ def derive(mechanism, element_names=None, rigid=()) -> Equations:
     if element_names is None:
         element_names = tuple(n for n, e in elements.items() if not is_structural(e))
     rigid_names = tuple(name for name, _ in rigid)
-    coords = list(mechanism.coordinates)
-    plain_of = {q: dotted_symbol(q.func.__name__, 0) for q in coords}
-    speed_of = {sp.Derivative(q, t): dotted_symbol(q.func.__name__, 1) for q in coords}
-
-    def plain(expr):
-        return expr.xreplace(speed_of).xreplace(plain_of)
-
-    eliminated = _eliminate(mechanism, rigid, plain, coords)
-    kept = [q for q in coords if q not in eliminated]
-    q = tuple(plain_of[c] for c in kept)
-    u = tuple(dotted_symbol(c.func.__name__, 1) for c in kept)
-    a = tuple(dotted_symbol(c.func.__name__, 2) for c in kept)
-    position_subs, speed_subs = _substitutions(eliminated, plain_of, q, u)
-
-    def to_plain(expr):
-        return plain(expr).xreplace(speed_subs).xreplace(position_subs)
-
-    def rate(expr, grad=None):         # d expr/dt; pass grad if it is already known
-        if grad is None:
-            present = expr.free_symbols
-            grad = [_diff(expr, qi) if qi in present else sp.S.Zero for qi in q]
-        return sp.Add(*[g * ui for g, ui in zip(grad, u) if g != 0], _diff(expr, t))
-
-    gradients = {}
-
-    def gradient(expr):                # each expression's gradient is taken once
-        if expr not in gradients:
-            gradients[expr] = sp.Matrix([_diff(expr, qi) for qi in q])
-        return gradients[expr].copy()
+    frame = _Frame(mechanism, rigid)
+    q, u, a, gradient, rate = frame.q, frame.u, frame.a, frame.gradient, frame.rate
+    kept, eliminated, plain_of = frame.kept, frame.eliminated, frame.plain_of
+    to_plain, link_plain, motion = frame.to_plain, frame.links, frame.motion
 
     def scaled(factor, column):        # factor * column, skipping the zero entries
         return column.applyfunc(lambda entry: factor * entry if entry != 0 else entry)
 
-    links = {n: e for n, e in elements.items() if isinstance(e, Link)}
     kinetic, potential, dissipation = sp.S.Zero, sp.S.Zero, sp.S.Zero
-    link_plain = {}
-    for name, link in links.items():
-        x, y, angle = (to_plain(link.x), to_plain(link.y), to_plain(link.angle))
-        link_plain[name] = (link.m, link.J, x, y, angle)
-        kinetic += link.m * (rate(x) ** 2 + rate(y) ** 2) / 2 + link.J * rate(angle) ** 2 / 2
+    for m, J, x, y, angle in link_plain.values():
+        kinetic += m * (rate(x) ** 2 + rate(y) ** 2) / 2 + J * rate(angle) ** 2 / 2
     rheonomic = any(t in e.free_symbols for (_, _, *pos) in link_plain.values() for e in pos)
 
     def moving(expr):                  # gradient, rate and bias of an expression
@@ -87,7 +58,6 @@ def derive(mechanism, element_names=None, rigid=()) -> Equations:
             + _diff(slide, t)
         return grad, slide, bias
 
-    motion = _Motion(to_plain, lambda expr: rate(expr, gradient(expr)), link_plain)
     forces, powers, frictions, contacts, works = {}, {}, [], [], {}
     for name in element_names:
         if name in rigid_names:
@@ -262,6 +232,62 @@ def _check_regular(mass, q, name):
             f"mechanism {name!r}: the mass matrix is singular: the motion "
             f"{combination} moves no mass or inertia (coordinates that always move "
             "together need one coordinate, or a link that moves with the difference)")
+
+
+def element_works(mechanism, names, rigid=()) -> dict:
+    """``{name: Work}`` of the named elements, written with the motion :func:`derive`
+    gives them (the rigid springs in ``rigid`` eliminated): what they contribute, without
+    deriving the equations (the motion is remembered until the mechanism changes)."""
+    frame = mechanism._memo.get(("frame", rigid))
+    if frame is None:
+        frame = mechanism._memo[("frame", rigid)] = _Frame(mechanism, rigid)
+    motion = frame.motion
+    return {name: mechanism.elements[name].work(motion) for name in names}
+
+
+class _Frame:
+    """A mechanism's plain symbols with the ``rigid`` springs' coordinates eliminated:
+    ``q``, ``u``, ``a`` of the kept coordinates, ``to_plain``, ``rate`` (time derivative),
+    ``gradient`` (each expression's taken once), the links' plain ``(m, J, x, y,
+    angle)`` and the ``motion`` elements write their work with."""
+
+    def __init__(self, mechanism, rigid):
+        coords = list(mechanism.coordinates)
+        self.plain_of = plain_of = {q: dotted_symbol(q.func.__name__, 0) for q in coords}
+        self.speed_of = {sp.Derivative(q, t): dotted_symbol(q.func.__name__, 1)
+                         for q in coords}
+        self.eliminated = _eliminate(mechanism, rigid, self.plain, coords)
+        self.kept = [q for q in coords if q not in self.eliminated]
+        self.q = tuple(plain_of[c] for c in self.kept)
+        self.u = tuple(dotted_symbol(c.func.__name__, 1) for c in self.kept)
+        self.a = tuple(dotted_symbol(c.func.__name__, 2) for c in self.kept)
+        self.subs = _substitutions(self.eliminated, plain_of, self.q, self.u)
+        self.gradients = {}
+        self.links = {}
+        for name, link in mechanism.elements.items():
+            if isinstance(link, Link):
+                self.links[name] = (link.m, link.J, self.to_plain(link.x),
+                                    self.to_plain(link.y), self.to_plain(link.angle))
+        self.motion = _Motion(self.to_plain, lambda expr: self.rate(expr, self.gradient(expr)),
+                              self.links)
+
+    def plain(self, expr):
+        return expr.xreplace(self.speed_of).xreplace(self.plain_of)
+
+    def to_plain(self, expr):
+        position_subs, speed_subs = self.subs
+        return self.plain(expr).xreplace(speed_subs).xreplace(position_subs)
+
+    def rate(self, expr, grad=None):     # d expr/dt; pass grad if it is already known
+        if grad is None:
+            present = expr.free_symbols
+            grad = [_diff(expr, qi) if qi in present else sp.S.Zero for qi in self.q]
+        return sp.Add(*[g * ui for g, ui in zip(grad, self.u) if g != 0], _diff(expr, t))
+
+    def gradient(self, expr):            # each expression's gradient is taken once
+        if expr not in self.gradients:
+            self.gradients[expr] = sp.Matrix([_diff(expr, qi) for qi in self.q])
+        return self.gradients[expr].copy()
 
 
 class _Motion:

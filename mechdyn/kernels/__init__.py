@@ -4,7 +4,8 @@ event location and stiffness-switch tests, driven in chunks from Python.
 Import cost: numba, its one-time initialisation and the cached kernel (measured by
 ``benchmarks/process.py``), with the garbage collector paused (:mod:`.startup`); nothing
 in mechdyn imports this package until a run uses the compiled backend. The first import after installing or editing a kernel module compiles
-the kernel.
+the kernel, kept in mechdyn's cache folder (:mod:`mechdyn.numba_cache`; with
+``MECHDYN_CACHE=off`` compiled in memory by every process).
 
 Model functions (see :mod:`.functions`) are numba functions with the signatures
 ``RHS_SIGNATURE`` / ``JAC_SIGNATURE`` / ``EVENTS_SIGNATURE``; :func:`model_functions`

@@ -1,7 +1,8 @@
 """The compiled integration loop: :func:`integrate`, one entry point for both methods.
 
 Compiled once, with an explicit signature, releasing the GIL (threads can run kernels
-in parallel), and cached on disk (``NUMBA_CACHE_DIR`` or ``__pycache__``). numba keys its
+in parallel), and cached on disk in mechdyn's cache folder (:mod:`mechdyn.numba_cache`;
+in memory with ``MECHDYN_CACHE=off``). numba keys its
 cache on this file only, so the loop is built in a closure over a fingerprint of the
 sources it is compiled from (``COMPILED_MODULES``): editing any of them recompiles it
 instead of loading stale machine code. The one compilation (about 15 s, after installing
@@ -14,6 +15,7 @@ from pathlib import Path
 import numpy as np
 from numba import njit, types
 
+from ..numba_cache import CACHED
 from ..progress import announce
 from . import dop853, rodas
 from .events import locate
@@ -108,7 +110,7 @@ def _valid(method, functions, t_bound, rtol, atol, max_step, directions, max_ste
 
 
 def _compile(fingerprint):
-    @njit(SIGNATURE, cache=True, nogil=True)
+    @njit(SIGNATURE, cache=CACHED, nogil=True)
     def integrate(method, functions, p, t_bound, rtol, atol, max_step, autonomous,
                   midpoint_events, detect_switch, directions, max_steps, carry, counts,
                   ts, ys, coefs, first, fired):

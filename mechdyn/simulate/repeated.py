@@ -5,7 +5,9 @@ cache lookup), evaluates the initial state and the tolerances on every call: abo
 fifth of a compiled shoe-brake run. :class:`RepeatedRuns` does all that once for the
 fixed values and then runs a point by writing its values into a copy of the parameter
 vector; the initial state is evaluated again only where it depends on the varied
-values (or on all of them: closed loops assemble it). A point's values must already
+values (or on all of them: closed loops assemble it). Parameters given as expressions
+of a varied one (``Q: 3*P``) are evaluated again at every point, and the whole vector
+rebuilt from them (``docs/caching.md``). A point's values must already
 have been checked (:meth:`~mechdyn.declare.parameters.ParameterSet.refused_points`);
 its result and its errors are those of ``simulate`` with the same values.
 
@@ -39,20 +41,27 @@ class RepeatedRuns:
         self.template = values.vector(self.compiled.param_names)
         self.varied = list(varied)
         self.slots = [self.compiled.param_names.index(name) for name in self.varied]
+        self.derived = values.depending_on(self.varied)    # rebuilt at every point
         self.atol = atol_vector(self.compiled, mechanism, scene)
         check_method(scene)
         self.y0 = None
-        if not (self.compiled.constraints or _initial_names(scene) & set(self.varied)):
+        changed = set(self.varied) | self.derived.keys()
+        if not (self.compiled.constraints or _initial_names(scene) & changed):
             self.y0 = initial_state(self.compiled, mechanism, scene, self.numbers)
 
     def run(self, point):
-        p = list(self.template)
-        for slot, value in zip(self.slots, point):
-            p[slot] = value
+        numbers = {**self.numbers, **dict(zip(self.varied, point))}
+        if self.derived:          # values given as expressions of the varied ones
+            numbers = ParameterSet({**numbers, **self.derived}, mechanism=self.mechanism,
+                                   scene=self.scene).numbers
+            p = [numbers[name] for name in self.compiled.param_names]
+        else:
+            p = list(self.template)
+            for slot, value in zip(self.slots, point):
+                p[slot] = value
         y0 = self.y0
         if y0 is None:
-            y0 = initial_state(self.compiled, self.mechanism, self.scene,
-                               {**self.numbers, **dict(zip(self.varied, point))})
+            y0 = initial_state(self.compiled, self.mechanism, self.scene, numbers)
         budget = Budget(self.scene.max_steps, self.scene.max_wall_time)
         return Driver(self.compiled, p, self.scene, self.atol, self.mechanism,
                       budget).run(y0)
