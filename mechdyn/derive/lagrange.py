@@ -42,6 +42,7 @@ def derive(mechanism, element_names=None, rigid=()) -> Equations:
     q, u, a, gradient, rate = frame.q, frame.u, frame.a, frame.gradient, frame.rate
     kept, eliminated, plain_of = frame.kept, frame.eliminated, frame.plain_of
     to_plain, link_plain, motion = frame.to_plain, frame.links, frame.motion
+    coords = list(mechanism.coordinates)
 
     def scaled(factor, column):        # factor * column, skipping the zero entries
         return column.applyfunc(lambda entry: factor * entry if entry != 0 else entry)
@@ -241,8 +242,9 @@ def element_works(mechanism, names, rigid=()) -> dict:
     frame = mechanism._memo.get(("frame", rigid))
     if frame is None:
         frame = mechanism._memo[("frame", rigid)] = _Frame(mechanism, rigid)
-    motion = frame.motion
-    return {name: mechanism.elements[name].work(motion) for name in names}
+    coords = list(mechanism.coordinates)
+    return {name: checked_work(mechanism.elements[name], frame.motion, coords)
+            for name in names}
 
 
 class _Frame:
