@@ -83,7 +83,9 @@ def test_a_real_ctrl_c_while_a_model_file_runs_still_interrupts(tmp_path):
                                       "time.sleep(60)\n")
     process = subprocess.Popen([sys.executable, "-m", "mechdyn.cli.command", "models", str(tmp_path)],
                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                               env=dict(os.environ, PYTHONPATH=str(ROOT)))
+                               env=dict(os.environ, PYTHONPATH=str(ROOT)),
+                               # SIGINT as in a terminal (a pytest-xdist worker ignores it)
+                               preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     deadline = time.monotonic() + 60
     while not inside.exists() and time.monotonic() < deadline:
         time.sleep(0.05)

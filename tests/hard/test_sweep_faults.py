@@ -40,7 +40,15 @@ def start(out, *extra):
     """A sweep in another process (SIGINT at its default: a Ctrl-C reaches it)."""
     return subprocess.Popen([sys.executable, "-m", "mechdyn.cli.command", *sweep_args(out, *extra)],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            env=dict(os.environ, PYTHONPATH=str(ROOT)), cwd=ROOT)
+                            env=dict(os.environ, PYTHONPATH=str(ROOT)), cwd=ROOT,
+                            preexec_fn=sigint_at_default)
+
+
+def sigint_at_default():
+    """In the child before it starts: SIGINT as in a terminal, whatever the test runner
+    set (a pytest-xdist worker ignores it, and a Python started ignoring SIGINT never
+    raises KeyboardInterrupt)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
 def rows(path):
