@@ -10,6 +10,7 @@ import os
 import tempfile
 from pathlib import Path
 
+import pytest
 from hypothesis import Phase, settings
 
 _CHOSEN = "MECHDYN_TESTS_CACHE_FOLDER"      # inherited by the workers of `pytest -n`
@@ -32,3 +33,20 @@ if os.environ.get("MECHDYN_CACHE", "").lower() != "off":
 
 settings.register_profile("mutation", database=None,
                           phases=[Phase.explicit, Phase.reuse, Phase.generate])
+
+
+@pytest.fixture
+def share_kernels():
+    """``share(folder)``: make ``folder`` a cache folder (for a process the test starts)
+    whose ``kernels/`` is this session's: numba's files of mechdyn's kernels do not
+    depend on what else the cache holds, and sharing them spares each such process a
+    cold compilation of the kernels (20-50 s); the scenes' entries stay the folder's own."""
+    def share(folder):
+        folder = Path(folder)
+        folder.mkdir(mode=0o700, parents=True, exist_ok=True)
+        if os.environ.get(_CHOSEN):
+            session = Path(os.environ[_CHOSEN]) / "kernels"
+            session.mkdir(mode=0o700, parents=True, exist_ok=True)
+            (folder / "kernels").symlink_to(session, target_is_directory=True)
+        return folder
+    return share

@@ -54,8 +54,8 @@ scenes = {"braking": md.Scene("braking", initial={phi: 0, md.speed(phi): 100},
 
 # ------------------------------------------------------------ 1. the warm start
 @pytest.fixture
-def brake_folder(tmp_path, monkeypatch):
-    monkeypatch.setenv("MECHDYN_CACHE", str(tmp_path / "cache"))
+def brake_folder(tmp_path, monkeypatch, share_kernels):
+    monkeypatch.setenv("MECHDYN_CACHE", str(share_kernels(tmp_path / "cache")))
     monkeypatch.delenv("BRAKE_TEST_FACTOR", raising=False)
     (tmp_path / "brake.py").write_text(DATA_BRAKE)
     (tmp_path / "brake.json").write_text('{"P": 20}')
@@ -91,8 +91,9 @@ def test_a_warm_start_sees_the_environment_variables_the_model_read(brake_folder
     assert stop_time(capsys, model) == "50"
 
 
-def test_a_warm_start_sees_a_helper_module_outside_the_model_folder(tmp_path):
+def test_a_warm_start_sees_a_helper_module_outside_the_model_folder(tmp_path, share_kernels):
     """A separate process per run, as on the command line (imports are per process)."""
+    share_kernels(tmp_path / "cache")
     helpers, models = tmp_path / "lib", tmp_path / "models"
     helpers.mkdir()
     models.mkdir()

@@ -120,9 +120,10 @@ def test_rpm_in_and_out(capsys):
     assert status == 2 and "Hz counts cycles" in err
 
 
-def test_a_warm_run_imports_no_pint(tmp_path):
+def test_a_warm_run_imports_no_pint(tmp_path, share_kernels):
     """pint is imported when a unit is first met; its facts are cached, so `import
     mechdyn` and a second run of a model with units never import it."""
+    share_kernels(tmp_path)
     env = {**os.environ, "MECHDYN_CACHE": str(tmp_path), "PYTHONPATH": str(ROOT)}
     script = ("import sys, mechdyn as md\n"
               "assert 'pint' not in sys.modules\n"

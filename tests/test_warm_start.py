@@ -21,7 +21,8 @@ def run(cache, *args):
     return summary, probe.split()
 
 
-def test_a_repeated_run_skips_the_model_file_and_sympy_and_agrees(tmp_path):
+def test_a_repeated_run_skips_the_model_file_and_sympy_and_agrees(tmp_path, share_kernels):
+    share_kernels(tmp_path / "cache")
     model = tmp_path / "brake.py"
     shutil.copy(ROOT / "models" / "shoe_brake.py", model)
     first, probe = run(tmp_path / "cache", "simulate", str(model), "--scene", "braking")
@@ -33,10 +34,10 @@ def test_a_repeated_run_skips_the_model_file_and_sympy_and_agrees(tmp_path):
     assert "t = 50 s" in second and "final 2500 rad" in second     # worked example 1
 
 
-def test_another_parameter_or_a_changed_model_file_is_a_cold_run(tmp_path):
+def test_another_parameter_or_a_changed_model_file_is_a_cold_run(tmp_path, share_kernels):
     model = tmp_path / "brake.py"
     shutil.copy(ROOT / "models" / "shoe_brake.py", model)
-    cache = tmp_path / "cache"
+    cache = share_kernels(tmp_path / "cache")
     run(cache, "simulate", str(model), "--scene", "braking")
     text, probe = run(cache, "simulate", str(model), "--scene", "braking", "--param", "P=40")
     assert probe[0] == "True" and "t = 25 s" in text    # I omega0 / (2 f P R) = 1000 / P

@@ -239,9 +239,10 @@ def test_a_read_only_directory_degrades_to_no_disk_cache(private_cache):
 
 
 @pytest.mark.slow
-def test_concurrent_processes_fill_one_cache_without_damage(private_cache):
+def test_concurrent_processes_fill_one_cache_without_damage(private_cache, share_kernels):
     """Three processes compile the same scene into an empty cache at once: all succeed,
     the entry is authentic, no temporary file is left."""
+    share_kernels(private_cache)
     command = [sys.executable, "-m", "mechdyn.cli.command", "simulate",
                str(ROOT / "models" / "shoe_brake.py"), "--scene", "braking"]
     env = dict(os.environ, PYTHONPATH=str(ROOT))
