@@ -12,8 +12,8 @@ from mechdyn.version import __version__
 
 from importlib import import_module
 
-from mechdyn.errors import (DeclarationError, DerivationError, MechdynError, MechdynWarning,
-                     OutputError, ParameterError, SceneError, SimulationError)
+from mechdyn.errors import (DeclarationError, DependencyError, DerivationError, MechdynError,
+                     MechdynWarning, OutputError, ParameterError, SceneError, SimulationError)
 
 # Public names loaded on first use: name -> module.
 _LAZY = {
@@ -66,7 +66,7 @@ __all__ = [
     "Scene", "stopped", "reaches", "Model", "load_model",
     "t", "coordinate", "coordinates", "speed", "acceleration", "plain",
     "MechdynError", "MechdynWarning", "DeclarationError", "DerivationError", "SceneError",
-    "ParameterError", "SimulationError", "OutputError",
+    "ParameterError", "SimulationError", "OutputError", "DependencyError",
     *_LAZY, *_LAZY_MODULES,
 ]
 

@@ -8,7 +8,7 @@ in one place. Warnings derive from :class:`MechdynWarning`.
 import difflib
 
 __all__ = ["MechdynError", "MechdynWarning", "DeclarationError", "DerivationError", "SceneError",
-           "ParameterError", "SimulationError", "OutputError", "did_you_mean"]
+           "ParameterError", "SimulationError", "OutputError", "DependencyError", "did_you_mean"]
 
 
 def did_you_mean(name, choices) -> str:
@@ -59,3 +59,22 @@ class SimulationError(MechdynError, RuntimeError):
 class OutputError(MechdynError, OSError):
     """A file could not be written (disk full, no permission); the message names it and
     the old file, if any, is left as it was."""
+
+
+class DependencyError(MechdynError, RuntimeError):
+    """An installed dependency lacks an internal that mechdyn relies on where the
+    library has no public API for it (numba's function addresses, scipy's error-norm
+    hook and dense-output fields): a release outside the tested range (README,
+    "Development"). The message names the package, its version and what is missing."""
+
+    def __init__(self, package, missing, needed_for):
+        import importlib.metadata
+        try:
+            version = importlib.metadata.version(package)
+        except importlib.metadata.PackageNotFoundError:      # pragma: no cover
+            version = "?"
+        super().__init__(f"{package} {version} has no {missing}, which mechdyn uses for "
+                         f"{needed_for}: this {package} release is outside the tested range "
+                         f"(see pyproject.toml); install a tested one")
+        self.package, self.missing = package, missing
+

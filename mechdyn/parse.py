@@ -49,7 +49,7 @@ def number(text: str) -> float:
         raise ValueTextError(f"{text[:20]!r}...: value text longer than 200 characters")
     try:
         tree = ast.parse(text.strip(), mode="eval")
-    except SyntaxError:
+    except (SyntaxError, ValueError):       # ValueError: a null byte, on Python 3.10
         raise ValueTextError(f"{text!r}: not a number or arithmetic expression") from None
     try:
         value = _evaluate(tree.body, text)
@@ -171,7 +171,7 @@ def unit_terms(text: str) -> tuple:
         pieces.append(token)
     try:
         tree = ast.parse("".join(pieces), mode="eval")
-    except SyntaxError:
+    except (SyntaxError, ValueError):       # ValueError: a null byte, on Python 3.10
         raise ValueTextError(f"{text!r}: not a unit expression (names with * / and "
                              "powers, e.g. 'kg*m^2' or 'N m/rad')") from None
     terms = {}

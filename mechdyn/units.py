@@ -177,7 +177,7 @@ def _facts_from_pint(terms) -> dict:
         try:
             unit = unit * reg.Unit(name) ** power
         except Exception:           # pint's UndefinedUnitError and parse errors
-            hint = did_you_mean(name, _COMMON) or did_you_mean(name, list(reg._units))
+            hint = did_you_mean(name, _COMMON) or did_you_mean(name, list(reg))
             raise UnitError(f"unknown unit {name!r}{hint}") from None
     base = reg.Quantity(1.0, unit).to_base_units()
     if reg.Quantity(0.0, unit).to_base_units().magnitude != 0:
@@ -186,7 +186,8 @@ def _facts_from_pint(terms) -> dict:
     return {"dimension": {k: str(Fraction(v).limit_denominator())
                           for k, v in dict(unit.dimensionality).items() if v != 0},
             "factor": float(base.magnitude),
-            "angle": str(Fraction(base.units._units.get("radian", 0)).limit_denominator()),
+            # the powers of the base units: to_tuple() is pint's public form of them
+            "angle": str(Fraction(dict(base.to_tuple()[1]).get("radian", 0)).limit_denominator()),
             "cycles": any("hertz" in str(reg.Unit(name)) for name, _ in terms),
             "reads": " * ".join(str(reg.Unit(name)) for name, _ in terms)}
 

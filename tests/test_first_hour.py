@@ -3,7 +3,10 @@ directly, many events grouped, the bundled models found by name from any folder,
 errors before work with suggestions, units in sweeps and summaries (the short reprs are
 checked against the README in tests/test_readme.py)."""
 import re
-import tomllib
+try:
+    import tomllib
+except ImportError:              # Python 3.10: pytest's own dependency there reads TOML
+    import tomli as tomllib
 from pathlib import Path
 
 import sympy as sp

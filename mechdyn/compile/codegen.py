@@ -23,9 +23,24 @@ import string
 
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
-from sympy.simplify.cse_main import tree_cse
 
 from mechdyn.compile.generated import compile_source
+
+# sympy's cse() always runs opt_cse, its search for common factors (most of cse's time on a
+# large model); the tree pass alone is sympy.simplify.cse_main.tree_cse, which sympy does
+# not export. Where a sympy release lacks it, large models take cse() itself: the same
+# values, found more slowly (tests/test_third_party_internals.py pins both paths).
+try:
+    from sympy.simplify.cse_main import tree_cse as _tree_cse
+except ImportError:                 # pragma: no cover - sympy outside the tested range
+    _tree_cse = None
+
+
+def _whole_subtrees(expressions, symbols):
+    """cse of whole subtrees only, without the search for common factors."""
+    if _tree_cse is None:
+        return sp.cse(expressions, symbols=symbols, order="none")
+    return _tree_cse(expressions, symbols, {}, "none")
 
 __all__ = ["function_source", "compile_source", "safe_symbols", "printed", "list_function"]
 
@@ -84,7 +99,7 @@ def function_source(name, states, parameters, expressions, body, doc="", lines=(
     """
     symbols = sp.numbered_symbols("_c")
     if large:
-        temporaries, reduced = tree_cse(list(expressions), symbols, {}, "none")
+        temporaries, reduced = _whole_subtrees(list(expressions), symbols)
         text_of = _UNSORTED.doprint
     else:
         temporaries, reduced = sp.cse(list(expressions), symbols=symbols, order="none")

@@ -152,6 +152,8 @@ def _run(path) -> dict:
             raise ModelFileError(f"{path}{_line_in(error, path)}: the model file raised "
                                  "KeyboardInterrupt") from None
         except BaseException as error:
+            if isinstance(error, ValueError) and "null bytes" in str(error):
+                error = SyntaxError(str(error))   # Python 3.10's compile() (3.11+: this)
             text = f": {error}" if str(error) else ""
             raise ModelFileError(f"{path}{_line_in(error, path)}: "
                                  f"{type(error).__name__}{text}") from error

@@ -28,11 +28,22 @@ function propagate (the call goes through the numba entry point).
 from numba import types
 from numba.core import cgutils
 from numba.core.dispatcher import Dispatcher
-from numba.experimental.function_type import _get_jit_address, _get_wrapper_address
 from numba.extending import intrinsic
 import numpy as np
 
-from ..errors import MechdynError
+from ..errors import DependencyError, MechdynError
+
+# numba has no public API for a first-class function's addresses: these two helpers and
+# the FunctionType struct's fields c_addr/py_addr/jit_addr (numba >= 0.61) are its
+# internals. A numba without them stops here with a DependencyError naming what is
+# missing, not deep inside a kernel's compilation (tests/test_third_party_internals.py
+# pins both).
+try:
+    from numba.experimental.function_type import _get_jit_address, _get_wrapper_address
+except ImportError:                     # pragma: no cover - numba outside the tested range
+    raise DependencyError("numba", "numba.experimental.function_type._get_jit_address",
+                          "the compiled kernels' model function addresses") from None
+FUNCTION_FIELDS = ("c_addr", "py_addr", "jit_addr")   #: numba's FunctionType struct
 
 __all__ = ["RHS_SIGNATURE", "JAC_SIGNATURE", "EVENTS_SIGNATURE", "ModelFunctions",
            "model_functions"]
@@ -53,9 +64,13 @@ def _from_addresses(function_type):
         def codegen(context, builder, signature, args):
             function = cgutils.create_struct_proxy(function_type)(context, builder)
             pointer = context.get_value_type(types.voidptr)
-            function.c_addr = builder.inttoptr(args[0], pointer)
-            function.py_addr = pointer(None)
-            function.jit_addr = builder.inttoptr(args[1], pointer)
+            try:
+                function.c_addr = builder.inttoptr(args[0], pointer)
+                function.py_addr = pointer(None)
+                function.jit_addr = builder.inttoptr(args[1], pointer)
+            except (AttributeError, KeyError):     # pragma: no cover - numba out of range
+                raise DependencyError("numba", f"FunctionType fields {FUNCTION_FIELDS}",
+                                      "calling model functions from the kernels") from None
             return function._getvalue()
         return function_type(types.int64, types.int64), codegen
     return build

@@ -30,6 +30,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.integrate import DOP853, RK23, RK45
 
+from mechdyn.errors import DependencyError
+
 __all__ = ["guarded", "ERROR_FLOOR", "BLIND_DROP", "REVOLUTION"]
 
 ERROR_FLOOR = 0.1            # DOP853's estimate is at least this part of its 5th-order one
@@ -38,11 +40,37 @@ _TRUST_DECAY = 0.1           # ... and the trusted value decays (a real fall sho
 REVOLUTION = 2 * np.pi
 
 
+# scipy has no public hook for a step's error norm: ``RungeKutta._estimate_error_norm(K,
+# h, scale)``, called by ``_step_impl`` on every step, and the fields it reads (``atol``,
+# ``rtol``, ``error_estimator_order``, DOP853's ``E5``) are its internals. A scipy that
+# renamed the method would quietly skip the override (the steps taken with scipy's own
+# control), so each class is checked once, when first used, and a missing name is a
+# DependencyError; tests/test_third_party_internals.py pins that the override is called.
+_HOOK = "_estimate_error_norm"
+_FIELDS = ("atol", "rtol", "error_estimator_order")
+_CHECKED = set()
+
+
+def _check_internals(solver):
+    cls = type(solver)
+    if cls in _CHECKED:
+        return
+    if not callable(getattr(super(_Guarded, solver), _HOOK, None)):
+        raise DependencyError("scipy", f"{cls.__mro__[2].__name__}.{_HOOK}",
+                              "mechdyn's error control of the explicit methods")
+    for name in _FIELDS + (("E5",) if isinstance(solver, DOP853) else ()):
+        if not hasattr(solver, name):
+            raise DependencyError("scipy", f"{cls.__mro__[2].__name__}.{name}",
+                                  "mechdyn's error control of the explicit methods")
+    _CHECKED.add(cls)
+
+
 class _Guarded:
     """The changed error norm, mixed into a scipy RK solver class."""
 
     def __init__(self, fun, t0, y0, t_bound, revolving=(), **options):
         super().__init__(fun, t0, y0, t_bound, **options)
+        _check_internals(self)
         self.revolving = np.asarray(revolving, dtype=int)
         self.trusted = 0.0
         # a step kept as it is: SAFETY * norm ** (-1 / (order + 1)) = 1

@@ -161,11 +161,29 @@ class ScipySegment:
 
 
 # --------------------------------------------------------- dense output as polynomials
+# scipy's DenseOutput has a public call, but the polynomial behind it is kept in fields
+# of each subclass that are its internals (RkDenseOutput.Q, Dop853DenseOutput.F, ...).
+# No public API gives the coefficients, so they are read here; a scipy without one of
+# them is a DependencyError naming it, and tests/test_third_party_internals.py checks,
+# for each method, that the polynomial read matches the solver's own dense output.
+_DENSE_FIELDS = {"ConstantDenseOutput": ("value",), "RkDenseOutput": ("y_old", "Q"),
+                 "RadauDenseOutput": ("y_old", "Q"), "Dop853DenseOutput": ("y_old", "F"),
+                 "BdfDenseOutput": ("D", "t_shift", "denom"),
+                 "LsodaDenseOutput": ("h", "yh")}
+
+
 def step_polynomial(dense) -> np.ndarray:
     """Coefficients ``(d + 1, n)`` of ``y(x) = sum_j c_j x^j``, ``x = (t - t_old)/h``,
     of the interpolant of one step of a scipy solver (exact re-expansions of each
     solver's own form)."""
     name = type(dense).__name__
+    fields = _DENSE_FIELDS.get(name, ())
+    missing = [f"{name}.{field}" for field in fields if not hasattr(dense, field)]
+    if missing or not fields:
+        from mechdyn.errors import DependencyError
+        raise DependencyError("scipy", missing[0] if missing else f"dense output mechdyn "
+                              f"knows (its solver gave a {name})",
+                              "turning a solver's steps into mechdyn's trajectories")
     if name == "ConstantDenseOutput":
         return np.asarray(dense.value, dtype=float)[None, :]
     H = dense.t - dense.t_old
@@ -196,7 +214,7 @@ def step_polynomial(dense) -> np.ndarray:
             poly = _add(poly, power * dense.yh[:, j])
             power = _times_linear(power, -ratio, ratio)
         return poly
-    raise TypeError(f"no polynomial form for {name}")  # pragma: no cover
+    raise AssertionError(name)  # pragma: no cover - every name in _DENSE_FIELDS is handled
 
 
 def _times_linear(poly, a, b):
