@@ -129,16 +129,16 @@ def is_constant(mass) -> bool:
 
 
 def mass_margin_event(mass, state):
-    """``det M / prod M_ii - MASS_FLOOR`` (free of the coordinates' units, 1 for a
-    diagonal ``M``, 0 where it is singular), watched falling through zero, for 2 or 3
-    coordinates coupled in a mass matrix that changes with ``state``; else None (a
-    singular diagonal entry stalls the step: the failure names it)."""
+    """``det M - MASS_FLOOR prod M_ii``, watched falling through zero: negative where
+    ``det M / prod M_ii`` (free of the coordinates' units, 1 for a diagonal ``M``, 0
+    where it is singular) is below the floor, and never 0/0. For 2 or 3 coordinates
+    coupled in a mass matrix that changes with ``state``; else None (a vanishing
+    diagonal entry stalls the step: the failure names it)."""
     n = mass.shape[0]
     if n not in (2, 3) or not any(mass[i, j] != 0 for i in range(n) for j in range(i)) \
             or not any(e.free_symbols & state for e in mass):
         return None
-    return mass.det(method="berkowitz") / sp.Mul(*[mass[i, i] for i in range(n)]) \
-        - MASS_FLOOR
+    return mass.det(method="berkowitz") - MASS_FLOOR * sp.Mul(*[mass[i, i] for i in range(n)])
 
 
 def factor_source(source, mass) -> tuple:

@@ -265,7 +265,7 @@ class Driver:
     def _no_real_value(self, t, y, index):
         """Raise: an element's expression has no real value beyond ``(t, y)``."""
         kind, label = self.c.event_kinds[index]
-        if kind == "mass":              # det M / prod M_ii fell through its floor
+        if kind == "mass":              # det M / prod M_ii fell below its floor
             check_singular_mass(self.c, self.modes.p(Mode()), t, y, self.mass_scale, None)
         raise SimulationError(f"integration stopped at t = {t:.6g} s: {label} has no real "
                               f"value beyond {state_text(self.c, y)} (the argument of a "

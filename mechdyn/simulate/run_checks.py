@@ -133,6 +133,8 @@ def check_singular_mass(compiled, p, t, y, mass_scale, floor):
     try:
         margin, vector = mass_margin(compiled.terms(t, y, p)["mass"], mass_scale)
     except (ArithmeticError, ValueError, np.linalg.LinAlgError):
+        if floor is None:
+            raise SingularMassError(", ".join(compiled.coordinates), t, y) from None
         return
     if floor is not None and not margin < floor:
         return
