@@ -175,8 +175,11 @@ def reference_rhs(spec):
     args = list(Z[:n]) + list(W)
     M, f = sp.lambdify(args, mass, "numpy"), sp.lambdify(args, forcing, "numpy")
 
-    def rhs(_, y):
-        a = np.linalg.solve(np.array(M(*y), dtype=float),
-                            np.array(f(*y), dtype=float).ravel())
+    def rhs(_, y):            # a singular M: NaN, the step is rejected (status -1)
+        try:
+            a = np.linalg.solve(np.array(M(*y), dtype=float),
+                                np.array(f(*y), dtype=float).ravel())
+        except np.linalg.LinAlgError:
+            a = np.full(n, np.nan)
         return np.concatenate([y[n:], a])
     return rhs
