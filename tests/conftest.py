@@ -5,7 +5,9 @@ so a changed mechdyn never meets a stale entry; numba compiles each scene's modu
 once, not once per session), or a fresh folder of the session's own with
 ``MECHDYN_TEST_CACHE=fresh`` (a cold run). ``MECHDYN_CACHE=off``, as the mutation runs
 set it, is kept: no disk cache at all. Registers the hypothesis profile ``mutation``
-(no shrinking, no example database) for benchmarks/mutation.py."""
+(no shrinking, no example database) for benchmarks/mutation.py, ``ci`` (the default:
+derandomized, so a failure reproduces; no deadline) and ``deep`` (2000 examples of the
+differential tests, tests/test_differential.py: ``--hypothesis-profile=deep``)."""
 import os
 import tempfile
 from pathlib import Path
@@ -33,6 +35,10 @@ if os.environ.get("MECHDYN_CACHE", "").lower() != "off":
 
 settings.register_profile("mutation", database=None,
                           phases=[Phase.explicit, Phase.reuse, Phase.generate])
+_NO_EXPLAIN = [Phase.explicit, Phase.reuse, Phase.generate, Phase.shrink]   # minutes each
+settings.register_profile("ci", derandomize=True, deadline=None, phases=_NO_EXPLAIN)
+settings.register_profile("deep", max_examples=2000, deadline=None, phases=_NO_EXPLAIN)
+settings.load_profile("ci")
 
 
 @pytest.fixture

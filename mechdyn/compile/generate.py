@@ -26,7 +26,8 @@ constraint). The functions:
   changes branch), in the order of ``meta["events"]``; the branches are locked by flags
   in ``p`` after the friction signs (:class:`Switches`); last, the domain conditions
   (:func:`domain_conditions`: an argument that must not be negative for an element's
-  expression to have a real value);
+  expression to have a real value), and the mass matrix's margin from singular
+  (kind "mass": :func:`~mechdyn.compile.mass_solve.mass_margin_event`);
 - ``outputs`` (:mod:`mechdyn.compile.output_code`), ``energy`` (``[T, V]``);
 - ``mass_factor`` (a mass matrix of the parameters alone, ``meta["mass_factor"]``:
   offset in ``p`` and size): its factor, appended to ``p`` once per parameter vector
@@ -44,7 +45,7 @@ from mechdyn.compile.table_code import table_constants
 from mechdyn.compile.output_code import friction_signed, outputs as scene_outputs, slip_signed
 from mechdyn.symbols import t, written
 from mechdyn.compile.mass_solve import (UNROLLED_LIMIT, _jac_source, _rhs_source, factor_source,
-                                        is_constant, jacobian_pattern)
+                                        is_constant, jacobian_pattern, mass_margin_event)
 
 __all__ = ["generate"]
 
@@ -127,9 +128,14 @@ def generate(eqs, selected) -> tuple:
         (f"output {label!r} = {written(expr)}", g)
         for (label, expr, _), plain in zip(outputs, output_exprs)
         for g in _domain_arguments(plain) if g.free_symbols & state and not g.is_nonnegative]
+    # an expression without effect (the angle of a link without inertia) is not watched
+    # where it names a parameter nothing else needs: p holds only the needed ones
+    domains = [(label, g) for label, g in domains if g.free_symbols - known <= set(params)]
     event_exprs = [r(e) for _, e in stops] + [r(fr.rate) for fr in frictions] \
         + [r(m) for m in magnitudes] + [r(e) for e in locked["gap"]] \
         + [r(e) for e in switches.functions] + [r(e) for _, e in domains]
+    margin = None if eqs.constraints else mass_margin_event(mass_matrix, state)
+    event_exprs += [] if margin is None else [r(margin)]
     first_switch = len(stops) + 2 * len(frictions) + len(contacts)
     candidates = [*range(len(stops)), *range(first_switch,
                                               first_switch + len(switches.functions))]
@@ -181,7 +187,8 @@ def generate(eqs, selected) -> tuple:
         + [["magnitude", fr.name] for fr in frictions]
         + [["gap", c.name] for c in contacts]
         + [["switch", str(e)] for e in switches.functions]
-        + [["domain", label] for label, _ in domains],
+        + [["domain", label] for label, _ in domains]
+        + ([] if margin is None else [["mass", "mass matrix"]]),
         "periods": len(periods),
         "timed": timed,
         "revolving": _revolving([mass_matrix, forcing] + magnitudes + [

@@ -27,9 +27,12 @@ import re
 import sympy as sp
 
 
-__all__ = ["UNROLLED_LIMIT", "half_bandwidth", "is_constant", "jacobian_pattern"]
+__all__ = ["UNROLLED_LIMIT", "MASS_FLOOR", "half_bandwidth", "is_constant",
+           "jacobian_pattern", "mass_margin_event"]
 
 UNROLLED_LIMIT = 8          # DOF up to which the Cholesky solve is unrolled in code
+MASS_FLOOR = 1e-10          # det M / prod M_ii below which the accelerations keep only
+                            # about six digits (rounding eps / MASS_FLOOR): singular
 
 
 # ------------------------------------------------------------ solving M a = f in code
@@ -123,6 +126,19 @@ def is_constant(mass) -> bool:
     if not any(mass[i, j] != 0 for i in range(n) for j in range(i)):
         return False                                   # diagonal: a division, nothing to save
     return all(re.fullmatch(r"p\d+", s.name) for e in mass for s in e.free_symbols)
+
+
+def mass_margin_event(mass, state):
+    """``det M - MASS_FLOOR prod M_ii``, watched falling through zero: negative where
+    ``det M / prod M_ii`` (free of the coordinates' units, 1 for a diagonal ``M``, 0
+    where it is singular) is below the floor, and never 0/0. For 2 or 3 coordinates
+    coupled in a mass matrix that changes with ``state``; else None (a vanishing
+    diagonal entry stalls the step: the failure names it)."""
+    n = mass.shape[0]
+    if n not in (2, 3) or not any(mass[i, j] != 0 for i in range(n) for j in range(i)) \
+            or not any(e.free_symbols & state for e in mass):
+        return None
+    return mass.det(method="berkowitz") - MASS_FLOOR * sp.Mul(*[mass[i, i] for i in range(n)])
 
 
 def factor_source(source, mass) -> tuple:

@@ -212,27 +212,51 @@ def _diff(expr, x):
 
 def _check_regular(mass, q, name):
     """Refuse a mass matrix that is singular everywhere (a combination of coordinates
-    that moves no inertia), tested at two random configurations."""
+    that moves no inertia), tested at two random real configurations. A sample where
+    an entry is not a finite real number (a root of a negative number for those
+    parameter values) is no evidence: another is drawn, and with fewer than two real
+    samples in :data:`_SAMPLES` draws nothing is refused (the start of a run checks the
+    mass matrix at the given values: :func:`mechdyn.simulate.run_checks.check_mass`)."""
     n = mass.shape[0]
     if n < 2:
         return
     rng = np.random.default_rng(12345)
     free = sorted(mass.free_symbols, key=str)
     smallest = []
-    for _ in range(2):
+    for _ in range(_SAMPLES):
         values = {s: sp.Float(rng.uniform(-3, 3) if s in q else rng.uniform(0.5, 1.5))
                   for s in free}
-        numeric = np.array([[float(mass[i, j].xreplace(values)) if mass[i, j] != 0 else 0.0
-                             for j in range(n)] for i in range(n)])
+        numeric = _real_matrix(mass, values)
+        if numeric is None:
+            continue
         _, singular, vt = np.linalg.svd(numeric)
         smallest.append((singular[-1] / max(singular[0], 1e-300), vt[-1]))
-    if all(ratio < 1e-12 for ratio, _ in smallest):
+        if len(smallest) == 2:
+            break
+    if len(smallest) == 2 and all(ratio < 1e-12 for ratio, _ in smallest):
         vector = smallest[0][1] / np.max(np.abs(smallest[0][1]))
         combination = " + ".join(f"{c:.3g}*{qi}" for c, qi in zip(vector, q) if abs(c) > 1e-9)
         raise DerivationError(
             f"mechanism {name!r}: the mass matrix is singular: the motion "
             f"{combination} moves no mass or inertia (coordinates that always move "
             "together need one coordinate, or a link that moves with the difference)")
+
+
+_SAMPLES = 20           # draws for the two real samples of the regularity check
+
+
+def _real_matrix(mass, values):
+    """``mass`` at ``values`` as floats, or None where an entry is not finite and real."""
+    n = mass.shape[0]
+    numeric = np.zeros((n, n))
+    for i in range(n):
+        for j in range(n):
+            if mass[i, j] != 0:
+                value = complex(sp.N(mass[i, j].xreplace(values)))
+                if not (np.isfinite(value) and abs(value.imag) <= 1e-12 * abs(value.real)):
+                    return None
+                numeric[i, j] = value.real
+    return numeric
 
 
 def element_works(mechanism, names, rigid=()) -> dict:

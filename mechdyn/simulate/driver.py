@@ -32,7 +32,8 @@ from mechdyn.simulate.loop_watch import LoopSingularError, LoopWatch
 from mechdyn.simulate.methods import (StiffnessMonitor, backend_plan, explicit_for, fallbacks,
                       motion_jacobian, segment_tolerances, stiff_for)
 from mechdyn.simulate.result import Result
-from mechdyn.simulate.run_checks import Budget, check_finite, check_mass, check_scales, diagnosis, state_text
+from mechdyn.simulate.run_checks import (Budget, check_finite, check_mass, check_scales,
+                                         check_singular_mass, diagnosis, state_text)
 from mechdyn.simulate.segments import compiled_runner, scipy_runner, watched_events
 from mechdyn.simulate.threads import single_threaded_blas
 from mechdyn.simulate.time_events import time_events
@@ -49,6 +50,7 @@ _EDGE = 1e-9                 # a domain argument this far down from its start: t
 _NEAR_EDGE = 1e-6            # ... and where a failing method stopped: the cause
 _SETTLE_STEPS = 200          # a method switch after fewer steps ...
 _HOLD_STEPS = 1000           # ... holds the next segment's method for this many steps
+_EPS = float(np.finfo(float).eps)
 
 
 class Driver:
@@ -73,6 +75,7 @@ class Driver:
                       "njev": 0, "nlu": 0, "segments": 0, "switches": [], "wall_time": 0.0}
         self.max_step = self._max_step()
         self.loops = LoopWatch(compiled, scene.rtol)
+        self.mass_scale = 0.0         # M's largest entry at the start (check_mass)
         self.span = scene.time_limit - scene.t_start
         self.scratch = {}             # the compiled chunks' work arrays, for every segment
         if self.plan.active and compiled.constraints:
@@ -232,7 +235,7 @@ class Driver:
         t = float(t)
         kinds = [self._watched[i] for i in fired]
         for w in kinds:
-            if w.kind == "domain":
+            if w.kind in ("domain", "mass"):
                 self._no_real_value(t, y, w.index)
         if any(w.kind == "minor" for w in kinds):
             self.loops.check_singular(t, y, self.modes.p(mode))   # else a regular crossing
@@ -261,7 +264,9 @@ class Driver:
 
     def _no_real_value(self, t, y, index):
         """Raise: an element's expression has no real value beyond ``(t, y)``."""
-        label = self.c.event_kinds[index][1]
+        kind, label = self.c.event_kinds[index]
+        if kind == "mass":              # det M / prod M_ii fell below its floor
+            check_singular_mass(self.c, self.modes.p(Mode()), t, y, self.mass_scale, None)
         raise SimulationError(f"integration stopped at t = {t:.6g} s: {label} has no real "
                               f"value beyond {state_text(self.c, y)} (the argument of a "
                               "root, power, logarithm or arcsine there turns negative)")
@@ -272,12 +277,12 @@ class Driver:
         of its domain, where the equations become singular (a stall, not a result)."""
         values = self.c.events(t, y, p)
         for i, (kind, label) in enumerate(self.c.event_kinds):
-            if kind != "domain":
+            if kind not in ("domain", "mass"):
                 continue
             if values[i] < 0:
                 self._no_real_value(t, y, i)
             if start is not None and start[i] > 0 and values[i] <= (edge or _EDGE) * start[i] \
-                    and not label.startswith("output "):    # the equations do not use it
+                    and kind == "domain" and not label.startswith("output "):
                 raise SimulationError(
                     f"integration stopped at t = {t:.6g} s: the motion reaches the edge of "
                     f"{label} at {state_text(self.c, y)}: the argument of its root, power, "
@@ -345,6 +350,7 @@ class Driver:
         self.plan.forget()
         p = self.modes.p(mode)        # a failure at the edge of an expression's domain
         self._check_domains(t, y, p, start=self._domains, edge=_NEAR_EDGE)
+        check_singular_mass(self.c, p, t, y, self.mass_scale, _EPS / self.scene.rtol)
         if self.auto:
             for candidate in fallbacks(method, self.scene.rtol, self.plan.active):
                 if candidate not in self._failed:

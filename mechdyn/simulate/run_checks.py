@@ -14,7 +14,7 @@ from mechdyn.compile.generated import SingularMassError
 from mechdyn.errors import SimulationError
 
 __all__ = ["Budget", "check_mass", "check_scales", "check_finite", "diagnosis",
-           "state_text"]
+           "mass_margin", "check_singular_mass", "state_text"]
 
 # Magnitudes whose squares and products stay far from overflow and underflow (the
 # solvers' error norms and Jacobians square them); beyond, a named error, not garbage.
@@ -106,6 +106,44 @@ def diagnosis(compiled, p, t, y, mass_scale) -> str:
     if not np.all(np.isfinite(values)):
         return ". The equations give non-finite values there (overflow or division by zero)"
     return ""
+
+
+def mass_margin(mass, mass_scale) -> tuple:
+    """How far the mass matrix is from singular, free of the coordinates' units: the
+    smallest eigenvalue of ``M`` scaled to a unit diagonal (with one coordinate: of
+    ``M`` against ``mass_scale``, its size at the start), and its eigenvector.
+
+    >>> mass_margin(np.array([[2.0, 2.0], [2.0, 2.0]]), 2.0)[0] < 1e-15
+    True
+    """
+    mass = np.asarray(mass, dtype=float)
+    diagonal = np.sqrt(np.maximum(np.diag(mass), 1e-300))
+    if len(mass) == 1:
+        return float(mass[0, 0] / max(mass_scale, 1e-300)), np.ones(1)
+    values, vectors = np.linalg.eigh(mass / np.outer(diagonal, diagonal))
+    return float(values[0]), vectors[:, 0]
+
+
+def check_singular_mass(compiled, p, t, y, mass_scale, floor):
+    """Raise :class:`SingularMassError` where the mass matrix at ``(t, y)`` is singular
+    to within ``floor`` (:func:`mass_margin`): after a failing method (floor ``eps /
+    rtol``: the accelerations there are rounding above the tolerance) no other method
+    is tried, since one that steps over the singular position returns numbers past it;
+    floor None: raise whatever the margin (the watched margin fell through its floor)."""
+    try:
+        margin, vector = mass_margin(compiled.terms(t, y, p)["mass"], mass_scale)
+    except (ArithmeticError, ValueError, np.linalg.LinAlgError):
+        if floor is None:
+            raise SingularMassError(", ".join(compiled.coordinates), t, y) from None
+        return
+    if floor is not None and not margin < floor:
+        return
+    moving = ", ".join(name for name, c in zip(compiled.coordinates, vector)
+                       if abs(c) > 0.1 * np.max(np.abs(vector)))
+    error = SingularMassError(moving, t, y)
+    error.args = (f"{error}: the mass matrix scaled to a unit diagonal has smallest "
+                  f"eigenvalue {margin:.3g} at {state_text(compiled, y)}",)
+    raise error
 
 
 def state_text(compiled, y) -> str:

@@ -28,7 +28,7 @@ __all__ = ["Watched", "watched_events", "scipy_runner", "compiled_runner", "fast
 @dataclass(frozen=True)
 class Watched:
     """One watched event: ``kind`` ("stop", "switch", "stick", "engage", "gap",
-    "release", "minor", "domain"), ``index`` (the entry of the generated ``events``; the
+    "release", "minor", "domain", "mass"), ``index`` (the entry of the generated ``events``; the
     group for a release; the minor), ``element`` (the stop condition, friction element or
     stop limit, else -1), ``direction`` (+1, -1, 0), ``side`` (+1/-1: the side a zero
     counts as; 0: a zero takes the side the function moves to) and ``offset`` (the value
@@ -46,7 +46,7 @@ class Watched:
     @property
     def compiled(self) -> bool:
         """Whether it is an entry of the generated ``events`` function."""
-        return self.kind in ("stop", "switch", "stick", "engage", "gap", "domain")
+        return self.kind in ("stop", "switch", "stick", "engage", "gap", "domain", "mass")
 
 
 def watched_events(modes, scene, mode, muted, t0, y0, minor=None) -> list:
@@ -69,6 +69,7 @@ def watched_events(modes, scene, mode, muted, t0, y0, minor=None) -> list:
             out.append(Watched("stick", rates[k], k, int(-sign), int(sign)))
     out += [Watched("release", g, -1, -1, 1) for g in range(len(mode.groups))]
     out += [Watched("domain", i, j, -1, 1) for j, i in enumerate(index["domain"])]
+    out += [Watched("mass", i, -1, -1, 1) for i in index["mass"]]
     out += [Watched("engage", index["magnitude"][k], k, 1, -1) for k in sorted(mode.free)]
     if index["gap"]:
         gaps = index["gap"]
@@ -85,7 +86,7 @@ def _event_index(modes) -> dict:
     index = getattr(modes, "event_index", None)
     if index is None:
         index = {kind: [] for kind in ("stop", "switch", "rate", "magnitude", "domain",
-                                       "gap")}
+                                       "gap", "mass")}
         for i, (kind, _) in enumerate(modes.c.event_kinds):
             index.setdefault(kind, []).append(i)
         index["timed"] = set(modes.c.meta.get("timed", ()))
