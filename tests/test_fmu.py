@@ -458,8 +458,11 @@ def test_a_parameter_given_as_an_expression_is_calculated_in_the_fmu(tmp_path):
     assert result["Q"][-1] == 18.0
     mechdyn_run = disc.simulate(scene, {J: 1.0, k: 9.0, Q: 2 * k}).final(phi)
     assert result["phi"][-1] == pytest.approx(mechdyn_run, abs=1e-7)
-    with pytest.raises(FMICallException, match="fmi2SetReal"):
+    # refused by the FMU's fmi2SetReal (FMICallException) or, in FMPy 0.3.4, before it by
+    # FMPy's check of the description's initial="calculated" (a plain Exception)
+    with pytest.raises(Exception, match='fmi2SetReal|"Q" has inital=calculated') as refused:
         fmpy.simulate_fmu(str(path), start_values={"Q": 5.0})
+    assert isinstance(refused.value, FMICallException) or "fmi2SetReal" not in str(refused.value)
     with pytest.raises(FmuError, match="input 'Q': parameter Q is given as 2\\*k"):
         disc.export_fmu(scene, {J: 1.0, k: 1.0, Q: 2 * k}, tmp_path / "in.fmu",
                         inputs=["Q"])
