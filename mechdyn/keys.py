@@ -16,7 +16,6 @@ import hashlib
 from pathlib import Path
 
 import numpy as np
-import sympy as sp
 
 __all__ = ["content", "attributes", "source_digest", "foreign"]
 
@@ -43,6 +42,7 @@ def content(value) -> str:
     """A value as key text, the same in every process for the same content: sympy by
     ``srepr``, arrays by their bytes, containers and dataclasses item by item; any other
     object by its type and ``repr`` (an address in it keeps the key to one process)."""
+    import sympy as sp      # here: the command line's warm start hashes sources without sympy
     if isinstance(value, sp.Basic):
         return sp.srepr(value)
     if isinstance(value, (str, bool, type(None))):

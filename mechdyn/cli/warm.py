@@ -31,6 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from mechdyn import cache
+from mechdyn.keys import source_digest
 
 __all__ = ["entry_name", "FrozenScene", "remember", "recall"]
 
@@ -83,7 +84,7 @@ def entry_name(model_path, scene_name, assignments) -> str | None:
     except OSError:
         return None
     digest = hashlib.sha256(model)
-    digest.update(_own_sources())
+    digest.update(source_digest().encode())
     digest.update(repr((str(scene_name), sorted(assignments or ()))).encode())
     return f"warm-{digest.hexdigest()[:32]}.json"
 
@@ -144,11 +145,3 @@ def recall(name, progress=None):
     result = driver.run(np.array(record["y0"]))
     result.units.update(record["units"])
     return result
-
-
-def _own_sources() -> bytes:
-    """A digest of mechdyn's own source files (a new version or an edit voids entries)."""
-    digest = hashlib.sha256()
-    for path in sorted(Path(__file__).parents[1].rglob("*.py")):
-        digest.update(path.read_bytes())
-    return digest.digest()
