@@ -31,8 +31,8 @@ __all__ = ["mode_source", "mode_vector", "KIND_CODES"]
 KIND_CODES = {"friction": 0.0, "one_way": 1.0, "contact": 2.0, "gear": 3.0}
 
 _TEMPLATE = '''
-from mechdyn.compile.mode_numerics import (constrained, frozen_speeds, group_margins,
-                                           least_change, rank_margin)
+from mechdyn.compile.mode_entry import (constrained, frozen_speeds, group_margins,
+                                        least_change_into, rank_margin)
 import numpy as _np
 
 _LAY = _np.array({layout}, dtype=_np.int64)
@@ -74,16 +74,16 @@ def loop_project(t, y, p, out):
     parts = _np.empty({m} * ({n} + 3))
     for i in range({n2}):
         out[i] = y[i]
+    step = _np.empty({n})
     for _ in range(3):
         closure(t, out, p, parts)
-        step = least_change(parts[{m}:{mn}].copy().reshape(({m}, {n})),
-                            parts[:{m}].copy())
+        least_change_into(parts[{m}:{mn}].copy(), parts[:{m}].copy(), step)
         for i in range({n}):
             out[i] -= step[i]
     closure(t, out, p, parts)
-    grads = parts[{m}:{mn}].copy().reshape(({m}, {n}))
-    rate = grads @ out[{n}:].copy() + parts[{mn}:{mn} + {m}]
-    step = least_change(grads, rate)
+    grads = parts[{m}:{mn}].copy()
+    rate = grads.reshape(({m}, {n})) @ out[{n}:].copy() + parts[{mn}:{mn} + {m}]
+    least_change_into(grads, rate, step)
     for i in range({n}):
         out[{n} + i] -= step[i]
 '''

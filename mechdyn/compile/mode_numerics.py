@@ -3,7 +3,8 @@ holding margins of its stuck groups, from a scene's ``terms`` vector.
 
 Generic code, compiled once per installation (cached on disk); each scene's generated
 ``mode_rhs`` and ``mode_events`` (:mod:`mechdyn.compile.mode_code`) evaluate the
-scene's ``terms`` and call these with the scene's ``layout`` (the offsets below) and
+scene's ``terms`` and call these (through their C entry points,
+:mod:`mechdyn.compile.mode_entry`) with the scene's ``layout`` (the offsets below) and
 the parameter vector ``p``, which carries the mode after the scene's parameters
 (:func:`mechdyn.compile.mode_code.mode_vector`). The mathematics is the one of
 :mod:`mechdyn.simulate.constrained`, which stays the reference:
