@@ -32,8 +32,10 @@ KIND_CODES = {"friction": 0.0, "one_way": 1.0, "contact": 2.0, "gear": 3.0}
 
 _TEMPLATE = '''
 from mechdyn.compile.mode_entry import (constrained, frozen_speeds, group_margins,
-                                        least_change_into, rank_margin)
+                                        least_change_into, rank_margin, require)
 import numpy as _np
+
+require("constrained", "frozen_speeds", "group_margins"{loop_entries})
 
 _LAY = _np.array({layout}, dtype=_np.int64)
 _N, _NP, _E, _T, _SIZE = {n}, {n_params}, {n_events}, {n_terms}, {size}
@@ -135,6 +137,7 @@ def mode_source(meta, n_params, plain=False, minors=0) -> str:
         layout=layout, n=n, n_params=n_params, n_events=values["events"],
         n_terms=values["terms"], size=n + loops + len(gears),
         plain_call=_PLAIN_CALL if plain and not gears else "",
+        loop_entries=', "rank_margin", "least_change"' if loops else "",
         loop_events=_LOOP_EVENTS.format(minors=minors) if loops else "") + (
         _LOOP_PROJECT.format(m=loops, n=n, n2=2 * n, mn=loops + loops * n) if loops else "")
 
