@@ -63,7 +63,8 @@ def test_the_directory_and_key_are_private_and_entries_authenticated(private_cac
 
 def compile_elsewhere(tags) -> list:
     """Run the discs of ``tags`` in another process (filling the disk cache, not this
-    process's memory); their cache keys."""
+    process's memory; give the cache the session's kernels first, ``share_kernels``);
+    their cache keys."""
     script = textwrap.dedent(f"""
         import json, sys
         sys.path.insert(0, {str(ROOT / 'tests' / 'hard')!r})
@@ -86,11 +87,13 @@ def signed(name, payload, key):
     return b"mechdyn-cache-1 " + mac.encode() + b"\n" + payload
 
 
-def test_planted_code_never_runs_but_would_if_it_were_authentic(private_cache, tmp_path):
+def test_planted_code_never_runs_but_would_if_it_were_authentic(private_cache, tmp_path,
+                                                                share_kernels):
     """Four entries with code planted that would create a file: plain JSON (the old
     format), a forged MAC, a MAC under another key, and (the control) one signed with
     this cache's own key. Running the four scenes runs only the control's code; the
     others are rebuilt and stored authentic."""
+    share_kernels(private_cache)
     tags = [uuid.uuid4().hex for _ in range(4)]
     keys = compile_elsewhere(tags)
     markers = [tmp_path / f"marker{i}" for i in range(4)]
@@ -112,7 +115,8 @@ def test_planted_code_never_runs_but_would_if_it_were_authentic(private_cache, t
         assert "planted code ran" not in cache.load(path.name)["source"]
 
 
-def test_damaged_entries_are_rebuilt_and_overwritten(private_cache):
+def test_damaged_entries_are_rebuilt_and_overwritten(private_cache, share_kernels):
+    share_kernels(private_cache)
     tags = [uuid.uuid4().hex for _ in range(4)]
     paths = [entry(private_cache, key) for key in compile_elsewhere(tags)]
     data = paths[0].read_bytes()
@@ -204,6 +208,7 @@ def test_a_full_or_read_only_disk_degrades_to_no_disk_cache_with_one_warning(
     assert [p for p in private_cache.iterdir() if p.suffix == ".tmp"] == []
 
 
+@pytest.mark.slow            # the process compiles the kernels in memory (20-50 s)
 def test_a_file_size_limit_degrades_to_no_disk_cache_in_a_real_process(private_cache):
     """RLIMIT_FSIZE makes every cache write beyond 64 bytes fail for real (as a full
     disk does), numba's files of the kernels included: the command still succeeds
