@@ -32,7 +32,7 @@ from llvmlite import binding, ir
 from numba import cfunc, types
 from numba.core import cgutils
 from numba.extending import intrinsic
-from numba.np.numpy_support import carray
+from numba import carray
 
 from mechdyn.compile import mode_numerics as numerics
 from mechdyn.numba_cache import CACHED
