@@ -14,7 +14,7 @@ the sample is drawn from all of a module's mutants with ``random.Random(f"{seed}
 (a smaller sample is the beginning of a larger one). The tests that reach a mutant come from a
 map built once by running the quick suite under a profiler (``mutation_probe.py``); each
 mutant runs in a copy of the repository under ``mutants/slots/`` with only its file
-changed, with a fresh cache folder, fastest test first, stopping at the first failure.
+changed, with a fresh cache folder, in the suite's order, stopping at the first failure.
 Results are kept per mutant under ``mutants/results/``: a decided mutant is not run again
 (``--survivors`` reruns the survivors after tests were added). Everything else:
 docs/mutation.md.
@@ -63,9 +63,9 @@ PYTEST = ["-m", "pytest", "-q", "-p", "no:cacheprovider", "-o", "addopts=", "-m"
 # compiled function called from Python is in the map itself (numba reports such calls to
 # the profiler), one called from compiled code is not.
 COMPILED_ENTRIES = ["mechdyn/kernels/api.py", "mechdyn/compile/numba_model.py"]
-MAP_FORMAT = 1            # raise it when the map's recording (mutation_probe.py) changes
+MAP_FORMAT = 2            # raise it when the map's recording (mutation_probe.py) changes
 JIT_DECORATORS = {"njit", "jit", "intrinsic", "cfunc", "overload", "vectorize", "guvectorize"}
-STARTUP = 15.0            # s: interpreter, imports and pytest's start, beside collection
+STARTUP = 5.0             # s: interpreter, imports, pytest's start (3 s here), beside collection
 KERNEL_COMPILE = 30.0     # s: numba compiling the kernels afresh (12-15 s on a quiet core)
 DECIDED = {"killed", "timeout", "import error", "survived", "no tests"}
 CAUGHT = {"killed", "timeout", "import error"}
@@ -385,7 +385,7 @@ class ReachMap:
 
     def __init__(self, data):
         self.data = data
-        self.tests = data["tests"]                  # [[node id, seconds, outcome], ...]
+        self.tests = data["tests"]       # [[node id, seconds, outcome], ...] as collected
         self.calls = {f: {int(k): v for k, v in lines.items()}
                       for f, lines in data["calls"].items()}
         self.usable = {i for i, (_, _, outcome) in enumerate(self.tests) if outcome == "passed"}
@@ -397,11 +397,12 @@ class ReachMap:
         return set().union(*self.calls.get(rel, {}).values())
 
     def reaching(self, rel: str, line: int, found: list) -> list:
-        """The usable tests that reach ``line`` of ``rel``, fastest first: those that called
-        the innermost function holding it; for module and class bodies, and functions run
-        while a module is imported (perhaps at collection, in no test), also those that
-        called anything in the file; for numba-compiled code (and the bodies of the modules whose
-        globals it reads), those that called anything in the file or ran compiled code."""
+        """The usable tests that reach ``line`` of ``rel``, in the suite's order: those
+        that called the innermost function holding it; for module and class bodies, and
+        functions run while a module is imported (perhaps at collection, in no test),
+        also those that called anything in the file; for numba-compiled code (and the
+        bodies of the modules whose globals it reads), those that called anything in the
+        file or ran compiled code."""
         scope = innermost(found, line)
         if scope is not None and not scope.jitted:
             reached = set(self.calls.get(rel, {}).get(scope.first, ()))
@@ -411,7 +412,7 @@ class ReachMap:
             reached = self.touching(rel)
         else:
             reached = self.touching(rel) | self.compiled_runs
-        return sorted(reached & self.usable, key=lambda i: (self.tests[i][1], i))
+        return sorted(reached & self.usable)
 
     def expected(self, tests: list) -> float:
         """Seconds the unmutated run of these tests takes (as measured in the map)."""
@@ -483,7 +484,8 @@ def merge_parts(parts: Path, seconds: float) -> dict:
     for data in children + processes:
         for rel, lines in data["at_import"].items():
             at_import.setdefault(rel, set()).update(lines)
-    order = sorted(tests)
+    collected = processes[0]["order"] if processes else []     # the same in xdist's workers
+    order = [n for n in collected if n in tests] + sorted(set(tests) - set(collected))
     index = {nodeid: i for i, nodeid in enumerate(order)}
     for nodeid, record in [(n, tests[n]) for n in order] + [(c["test"], c) for c in children]:
         for rel, lines in record.get("calls", {}).items() if nodeid in index else ():
@@ -538,7 +540,7 @@ class Job:
     index: int            # in the module's mutants
     mutant: Mutant
     source: str           # the module's source
-    tests: list           # node ids, fastest first
+    tests: list           # node ids, in the suite's order
     timeout: float
     private: bool         # numba compiles the kernels afresh (a mutant of compiled code)
 
@@ -749,10 +751,18 @@ def jobs(chosen, test_map: ReachMap, survivors_only=False) -> list:
             private = rel in test_map.compiled
             expected = test_map.expected(tests) + (KERNEL_COMPILE if private else 0.0)
             queue.append(Job(module, index, mutant, source,
-                             [test_map.tests[i][0] for i in tests],
-                             max(60.0, min(10 * expected, max(300.0, 2 * expected))), private))
+                             [test_map.tests[i][0] for i in tests], time_box(expected), private))
         queues.append(queue)
     return [job for round_ in _round_robin(queues) for job in round_]
+
+
+def time_box(expected: float) -> float:
+    """Seconds a mutant's run may take, from the unmutated run's ``expected`` seconds in
+    the map: 10 times that, at least 120 s (a test that found its scenes compiled by an
+    earlier test in the map's run compiles them afresh in a mutant's empty cache) and at
+    most 300 s, or twice that where longer (the map's times were taken under the
+    profiler, which doubles them): a surviving mutant is never cut off as a timeout."""
+    return max(120.0, min(10 * expected, max(300.0, 2 * expected)))
 
 
 def _round_robin(queues):
@@ -764,7 +774,7 @@ def run(todo: list, workers: int, budget_minutes=None) -> float:
     """Runs the jobs on ``workers`` copies of the repository; stops starting new ones
     once the budget is spent. The wall time."""
     start = time.perf_counter()
-    deadline = start + 60 * budget_minutes if budget_minutes else math.inf
+    deadline = math.inf if budget_minutes is None else start + 60 * budget_minutes
     lock, queue, done, stop = threading.Lock(), list(todo), [0], threading.Event()
 
     def work(number):

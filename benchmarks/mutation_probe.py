@@ -2,8 +2,8 @@
 repository where this file sits at the top), and the hook its test map installs in
 processes the tests start (the copy's ``sitecustomize.py`` calls :func:`child`).
 
-Map mode (``MECHDYN_MUTATION_MAP`` = a folder): records per test its duration, outcome and
-the mechdyn code objects it called (``sys.setprofile``, call events only), the functions
+Map mode (``MECHDYN_MUTATION_MAP`` = a folder): records the order of the collected tests,
+per test its duration, outcome and the mechdyn code objects it called (``sys.setprofile``, call events only), the functions
 called while one of mechdyn's modules is imported, and per test file the seconds its
 collection took, and writes them to ``<folder>/part-<pid>.json`` (one
 a process: pytest-xdist's workers each write theirs); a process a test starts (its node id in
@@ -88,7 +88,7 @@ class Recorder:
     them passed, and the calls."""
 
     def __init__(self):
-        self.calls, self.tests, self.collect = Calls(), {}, {}
+        self.calls, self.tests, self.collect, self.order = Calls(), {}, {}, []
 
     def pytest_sessionstart(self):
         self.calls.start()
@@ -100,6 +100,9 @@ class Recorder:
         if isinstance(collector, pytest.Module):
             name = str(Path(collector.path).relative_to(ROOT))
             self.collect[name] = round(time.perf_counter() - start, 3)
+
+    def pytest_collection_finish(self, session):
+        self.order = [item.nodeid for item in session.items]    # the suite's own order
 
     @pytest.hookimpl(hookwrapper=True)
     def pytest_runtest_protocol(self, item):
@@ -118,7 +121,7 @@ class Recorder:
 
     def pytest_sessionfinish(self):
         sys.setprofile(None)
-        _write("part", {"tests": self.tests, "collect": self.collect,
+        _write("part", {"tests": self.tests, "collect": self.collect, "order": self.order,
                         "at_import": _relative(self.calls.at_import)})
 
 

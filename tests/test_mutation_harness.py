@@ -117,6 +117,10 @@ def test_a_line_belongs_to_its_innermost_function():
     assert mutation.innermost(found, 24) is None            # class body
 
 
+def test_time_box():
+    assert [mutation.time_box(e) for e in (1, 20, 100, 400)] == [120, 200, 300, 800]
+
+
 def test_outcomes_from_pytest_status():
     assert mutation.classify(1, "x\nFAILED tests/a.py::t - boom\n") == (
         "killed", "FAILED tests/a.py::t - boom")
@@ -127,3 +131,26 @@ def test_outcomes_from_pytest_status():
                                 "for tests/a.py::t") == ("import error", "ERROR collecting tests/a.py")
     assert mutation.classify(-11, "")[0] == "killed"
     assert mutation.classify(4, "usage")[0] == "error"
+
+
+def test_workers_share_the_queue_and_a_spent_budget_starts_nothing(tmp_path, monkeypatch):
+    """run() with the processes left out: each worker has its own copy (slot), every job
+    runs once, results land in mutants/results/, and a spent budget starts no job."""
+    monkeypatch.setattr(mutation, "WORK", tmp_path)
+    monkeypatch.setattr(mutation, "copy_repository", lambda target: target)
+    monkeypatch.setattr(mutation, "warm", lambda slot: None)
+    ran = []
+
+    def fake(job, slot):
+        ran.append((job.index, slot.name))
+        return dict(job.record(), outcome="killed", seconds=0.0, commit="c", date="d")
+    monkeypatch.setattr(mutation, "run_mutant", fake)
+    found = mutation.mutants(SOURCE)
+    todo = [mutation.Job("x/y", i, m, SOURCE, ["t"], 60.0, False) for i, m in enumerate(found)]
+    mutation.run(todo, workers=2)
+    assert sorted(i for i, _ in ran) == list(range(len(found)))
+    assert {slot for _, slot in ran} <= {"w0", "w1"}
+    assert len(list((tmp_path / "results" / "x.y").glob("*.json"))) == len(found)
+    ran.clear()
+    mutation.run(todo, workers=2, budget_minutes=0)
+    assert ran == []
