@@ -14,7 +14,8 @@ the sample is drawn from all of a module's mutants with ``random.Random(f"{seed}
 (a smaller sample is the beginning of a larger one). The tests that reach a mutant come from a
 map built once by running the quick suite under a profiler (``mutation_probe.py``); each
 mutant runs in a copy of the repository under ``mutants/slots/`` with only its file
-changed, with a fresh cache folder, in the suite's order, stopping at the first failure.
+changed, with a fresh cache folder, fastest test first, stopping at the first failure; a
+kill counts where the unmutated package passes the same tests up to the failing one.
 Results are kept per mutant under ``mutants/results/``: a decided mutant is not run again
 (``--survivors`` reruns the survivors after tests were added). Everything else:
 docs/mutation.md.
@@ -397,7 +398,7 @@ class ReachMap:
         return set().union(*self.calls.get(rel, {}).values())
 
     def reaching(self, rel: str, line: int, found: list) -> list:
-        """The usable tests that reach ``line`` of ``rel``, in the suite's order: those
+        """The usable tests that reach ``line`` of ``rel``, fastest first: those
         that called the innermost function holding it; for module and class bodies, and
         functions run while a module is imported (perhaps at collection, in no test),
         also those that called anything in the file; for numba-compiled code (and the
@@ -412,7 +413,7 @@ class ReachMap:
             reached = self.touching(rel)
         else:
             reached = self.touching(rel) | self.compiled_runs
-        return sorted(reached & self.usable)
+        return sorted(reached & self.usable, key=lambda i: (self.tests[i][1], i))
 
     def expected(self, tests: list) -> float:
         """Seconds the unmutated run of these tests takes (as measured in the map)."""
@@ -540,7 +541,7 @@ class Job:
     index: int            # in the module's mutants
     mutant: Mutant
     source: str           # the module's source
-    tests: list           # node ids, in the suite's order
+    tests: list           # node ids, fastest first
     timeout: float
     private: bool         # numba compiles the kernels afresh (a mutant of compiled code)
 
@@ -634,6 +635,72 @@ def run_mutant(job: Job, slot: Path) -> dict:
     return dict(record, outcome=outcome, detail=detail, seconds=seconds)
 
 
+class LeftOut:
+    """Tests that failed with the unmutated package after other tests of a mutant's run
+    (a control, :func:`decide`): left out of every later run, kept in
+    ``mutants/left-out-<map digest>.json`` and listed under the table."""
+
+    def __init__(self, path: Path):
+        self.path, self.lock = path, threading.Lock()
+        self.tests = set(json.loads(path.read_text())) if path.is_file() else set()
+
+    def add(self, test: str):
+        with self.lock:
+            self.tests.add(test)
+            self.path.write_text(json.dumps(sorted(self.tests), indent=1))
+
+
+def decide(job: Job, slot: Path, left_out: LeftOut, controls: Path) -> dict:
+    """Runs a mutant. A kill (or a timeout) stands where the unmutated package passes the
+    same tests in the same order up to the one that failed (:func:`control`); where it
+    fails too, that test is left out and the mutant run again."""
+    start = time.perf_counter()
+    for _ in range(5):
+        job.tests = [t for t in job.tests if t not in left_out.tests]
+        result = run_mutant(job, slot)
+        if result["outcome"] not in ("killed", "timeout"):
+            break
+        failing = control(job, result, slot, controls)
+        if failing is None:
+            result["controlled"] = True
+            break
+        if not failing.startswith("tests/"):
+            result.update(outcome="error", detail=f"unmutated too: {failing}")
+            break
+        left_out.add(failing)
+    else:
+        result.update(outcome="error", detail="tests kept failing unmutated")
+    return dict(result, total_seconds=round(time.perf_counter() - start, 1))
+
+
+def control(job: Job, result: dict, slot: Path, controls: Path):
+    """The unmutated package's run of the mutant's tests up to the one that failed (all
+    of them after a crash or a timeout), with the same time box: None where it passes,
+    else the test that failed or what happened. Kept by the list of tests: kills at the
+    same place are checked once."""
+    failed = _node(result["detail"])
+    tests = job.tests[:job.tests.index(failed) + 1] if failed in job.tests else job.tests
+    path = controls / (hashlib.blake2b("\n".join(tests).encode(), digest_size=8).hexdigest()
+                       + ".json")
+    if not path.is_file():
+        plain = Job(job.module, -1, Mutant((1, 0), (1, 0), "", "none"), job.source, tests,
+                    job.timeout, False)
+        outcome = run_mutant(plain, slot)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(json.dumps({k: outcome[k] for k in ("outcome", "detail", "seconds")}))
+    outcome = json.loads(path.read_text())
+    if outcome["outcome"] == "survived":
+        return None
+    return _node(outcome["detail"]) or f"{outcome['outcome']} {outcome['detail']}".strip()
+
+
+def _node(detail: str):
+    """The node id in pytest's ``FAILED <id> - <message>`` (or ERROR) line, or None."""
+    if detail.startswith(("FAILED ", "ERROR ")):
+        return detail.split(" ", 1)[1].split(" - ")[0]
+    return None
+
+
 def classify(status, output: str) -> tuple:
     """(outcome, detail) of a mutant's pytest run from its exit status and output."""
     lines = output.splitlines()
@@ -685,7 +752,7 @@ def recorded(module, index, source, mutant):
     return json.loads(path.read_text()) if path.is_file() else None
 
 
-def table(chosen, wall=None) -> str:
+def table(chosen, wall=None, left_out=()) -> str:
     """The scores of the sampled mutants' recorded results, and the survivors."""
     head = ["| module | mutants | sampled | decided | killed | timeout | import error | "
             "survived | no tests | score (95 % interval) |", "|" + " --- |" + " ---: |" * 9]
@@ -697,7 +764,7 @@ def table(chosen, wall=None) -> str:
             result = recorded(module, index, source, found[index])
             if result and result["outcome"] in DECIDED:
                 count[result["outcome"]] += 1
-                seconds.append(result["seconds"])
+                seconds.append(result.get("total_seconds", result["seconds"]))
                 commits.add(result["commit"])
                 if result["outcome"] in ("survived", "no tests"):
                     survivors.append(f"{module}:{index} ({result['outcome']}, "
@@ -715,6 +782,9 @@ def table(chosen, wall=None) -> str:
              "timeout + import error + survived + no tests", "",
              f"{len(survivors)} survivors (`--show MODULE:INDEX` for the diff):",
              *[f"- {s}" for s in sorted(survivors)]]
+    if left_out:
+        lines += ["", f"{len(left_out)} tests left out (they fail unmutated after other "
+                      "tests of a mutant's run):", *[f"- {t}" for t in sorted(left_out)]]
     return "\n".join(lines)
 
 
@@ -770,9 +840,11 @@ def _round_robin(queues):
         yield [q[i] for q in queues if i < len(q)]
 
 
-def run(todo: list, workers: int, budget_minutes=None) -> float:
+def run(todo: list, workers: int, budget_minutes=None, left_out=None) -> float:
     """Runs the jobs on ``workers`` copies of the repository; stops starting new ones
     once the budget is spent. The wall time."""
+    controls = WORK / "controls" / digest()
+    left_out = left_out or LeftOut(WORK / f"left-out-{digest()}.json")
     start = time.perf_counter()
     deadline = math.inf if budget_minutes is None else start + 60 * budget_minutes
     lock, queue, done, stop = threading.Lock(), list(todo), [0], threading.Event()
@@ -785,7 +857,7 @@ def run(todo: list, workers: int, budget_minutes=None) -> float:
                 if not queue or time.perf_counter() > deadline:
                     return
                 job = queue.pop(0)
-            result = run_mutant(job, slot)
+            result = decide(job, slot, left_out, controls)
             if stop.is_set():                  # interrupted: killed by us, not by a test
                 return
             path = result_path(job.module, job.index, job.key)
@@ -849,12 +921,12 @@ def main(argv=None):
         load_map(args.map_workers)
         return 0
     chosen = selection(modules_of(args.modules), args.sample, args.seed)
-    wall = None
+    wall, left_out = None, LeftOut(WORK / f"left-out-{digest()}.json")
     if not args.report:
         todo = jobs(chosen, load_map(args.map_workers), args.survivors)
         print(f"{len(todo)} mutants to run on {args.workers} workers", flush=True)
-        wall = run(todo, args.workers, args.budget_minutes)
-    print(table(chosen, wall))
+        wall = run(todo, args.workers, args.budget_minutes, left_out)
+    print(table(chosen, wall, left_out.tests))
     return 0
 
 

@@ -141,14 +141,16 @@ def test_workers_share_the_queue_and_a_spent_budget_starts_nothing(tmp_path, mon
     monkeypatch.setattr(mutation, "warm", lambda slot: None)
     ran = []
 
-    def fake(job, slot):
+    def fake(job, slot):                # killed; its control (index -1) passes
         ran.append((job.index, slot.name))
-        return dict(job.record(), outcome="killed", seconds=0.0, commit="c", date="d")
+        outcome = "survived" if job.index < 0 else "killed"
+        return dict(job.record(), outcome=outcome, detail=f"FAILED {job.tests[0]} - x",
+                    seconds=0.0, commit="c", date="d")
     monkeypatch.setattr(mutation, "run_mutant", fake)
     found = mutation.mutants(SOURCE)
     todo = [mutation.Job("x/y", i, m, SOURCE, ["t"], 60.0, False) for i, m in enumerate(found)]
     mutation.run(todo, workers=2)
-    assert sorted(i for i, _ in ran) == list(range(len(found)))
+    assert sorted(i for i, _ in ran) == [-1] + list(range(len(found)))   # one control
     assert {slot for _, slot in ran} <= {"w0", "w1"}
     assert len(list((tmp_path / "results" / "x.y").glob("*.json"))) == len(found)
     ran.clear()
