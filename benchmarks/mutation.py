@@ -422,17 +422,19 @@ class ReachMap:
             self.tests[i][1] for i in tests)
 
 
+MAPPED = ("mechdyn", "tests", "models", "validation", "README.md", "pyproject.toml")
+
+
 def digest() -> str:
-    """A hash of what the map depends on: the files a mutant's copy holds but benchmarks/
-    and the harness's own tests (mechdyn, the tests and what they read: README.md's blocks
-    name tests, for one) and the version of the map's format (MAP_FORMAT)."""
+    """A hash of what the map depends on (MAPPED: mechdyn, the tests and the files that
+    name tests, as README.md's blocks and models/ do; not docs/, .ci/, benchmarks/ or the
+    harness's own tests) and of the version of the map's format (MAP_FORMAT)."""
     h = hashlib.blake2b(f"map format {MAP_FORMAT}".encode(), digest_size=8)
-    for name in COPIED:
+    for name in MAPPED:
         path = ROOT / name
         for file in sorted(path.rglob("*")) if path.is_dir() else [path]:
             rel = file.relative_to(ROOT).as_posix()
-            if name != "benchmarks" and file.is_file() and "__pycache__" not in file.parts \
-                    and rel != HARNESS_TESTS:
+            if file.is_file() and "__pycache__" not in file.parts and rel != HARNESS_TESTS:
                 h.update(rel.encode() + b"\0" + file.read_bytes())
     return h.hexdigest()
 
@@ -462,7 +464,7 @@ def build_map(path: Path, workers: int, paths=("tests",)):
     print(f"building the test map (the quick suite under a profiler, {workers} "
           f"process{'es' * (workers > 1)}): mutants/{path.name}", flush=True)
     start = time.perf_counter()
-    status = subprocess.run(command, cwd=mirror, env=env).returncode
+    status = subprocess.run(command, cwd=mirror, env=env, stdin=subprocess.DEVNULL).returncode
     seconds = time.perf_counter() - start
     shutil.rmtree(cache, ignore_errors=True)
     if status not in (0, 1):
@@ -597,7 +599,7 @@ def warm(slot: Path):
     """Compiles the unmutated kernels of ``slot`` into the shared cache (or finds them)."""
     env = _fresh_cache(slot, private=False)[1]
     subprocess.run([sys.executable, "-c", "import mechdyn.kernels"], cwd=slot, env=env,
-                   check=True)
+                   stdin=subprocess.DEVNULL, check=True)
 
 
 def run_mutant(job: Job, slot: Path) -> dict:
@@ -616,8 +618,8 @@ def run_mutant(job: Job, slot: Path) -> dict:
     try:
         with open(log, "w") as out:
             process = subprocess.Popen([sys.executable, *PYTEST, "-x", *job.tests],
-                                       cwd=slot, env=env, stdout=out, stderr=subprocess.STDOUT,
-                                       start_new_session=True)
+                                       cwd=slot, env=env, stdin=subprocess.DEVNULL, stdout=out,
+                                       stderr=subprocess.STDOUT, start_new_session=True)
             RUNNING[slot] = process
             try:
                 status = process.wait(job.timeout)
@@ -867,8 +869,9 @@ def run(todo: list, workers: int, budget_minutes=None, left_out=None) -> float:
             with lock:
                 done[0] += 1
                 print(f"[{done[0]}/{len(todo)}] {job.module}:{job.index} {result['outcome']} "
-                      f"in {result['seconds']:.0f} s ({len(job.tests)} tests, box "
-                      f"{job.timeout:.0f} s) {result.get('detail', '')[:100]}", flush=True)
+                      f"in {result['total_seconds']:.0f} s ({len(job.tests)} tests, box "
+                      f"{job.timeout:.0f} s{', controlled' * bool(result.get('controlled'))})"
+                      f" {result.get('detail', '')[:100]}", flush=True)
 
     threads = [threading.Thread(target=work, args=(i,)) for i in range(workers)]
     for thread in threads:
