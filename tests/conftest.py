@@ -3,9 +3,12 @@ tests neither read nor fill the user's ~/.cache/mechdyn: ``~/.cache/mechdyn-test
 kept between sessions (entries are keyed by the generator's source and authenticated,
 so a changed mechdyn never meets a stale entry; numba compiles each scene's modules
 once, not once per session), or a fresh folder of the session's own with
-``MECHDYN_TEST_CACHE=fresh`` (a cold run). ``MECHDYN_CACHE=off``, as the mutation runs
-set it, is kept: no disk cache at all. Registers the hypothesis profile ``mutation``
-(no shrinking, no example database) for benchmarks/mutation.py, ``ci`` (the default:
+``MECHDYN_TEST_CACHE=fresh`` (a cold run), or the folder ``MECHDYN_TESTS_CACHE_FOLDER``
+names (benchmarks/mutation.py: a fresh one per mutant). ``MECHDYN_CACHE=off`` is kept: no
+disk cache at all. Registers the hypothesis profile ``mutation``
+(no shrinking, no example database; derandomized, so a mutant's outcome reproduces, and no
+deadline, so a mutant that only runs slower on a busy machine is not killed) for
+benchmarks/mutation.py, ``ci`` (the default:
 derandomized, so a failure reproduces; no deadline) and ``deep`` (2000 examples of the
 differential tests, tests/test_differential.py: ``--hypothesis-profile=deep``)."""
 import os
@@ -33,7 +36,7 @@ def _tests_cache() -> str:
 if os.environ.get("MECHDYN_CACHE", "").lower() != "off":
     os.environ["MECHDYN_CACHE"] = os.environ[_CHOSEN] = _tests_cache()
 
-settings.register_profile("mutation", database=None,
+settings.register_profile("mutation", database=None, derandomize=True, deadline=None,
                           phases=[Phase.explicit, Phase.reuse, Phase.generate])
 _NO_EXPLAIN = [Phase.explicit, Phase.reuse, Phase.generate, Phase.shrink]   # minutes each
 settings.register_profile("ci", derandomize=True, deadline=None, phases=_NO_EXPLAIN)

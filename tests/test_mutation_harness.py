@@ -1,0 +1,158 @@
+"""The pure parts of benchmarks/mutation.py: which mutants a source has, the seeded
+sample, the Wilson interval, and which function holds a line."""
+import importlib.util
+import sys
+from pathlib import Path
+
+import pytest
+
+_PATH = Path(__file__).resolve().parents[1] / "benchmarks" / "mutation.py"
+_SPEC = importlib.util.spec_from_file_location("mutation_harness", _PATH)
+mutation = importlib.util.module_from_spec(_SPEC)
+sys.modules[_SPEC.name] = mutation          # dataclasses look their module up
+_SPEC.loader.exec_module(mutation)
+
+SOURCE = '''"""A docstring: 1 + 2 is not mutated."""
+import numba
+
+
+def f(a: int = 1, b=2.5) -> float:
+    """Neither is this one < 3."""
+    if a < b and not a:
+        raise ValueError(f"a {a + 1} is too small")
+    while a:
+        a -= 1
+        break
+    print("message", 1 + 1)
+    return -a ** 2 / b
+
+
+@numba.njit(cache=True)
+def g(x):
+    def h():
+        return x is None
+    return x in (0, True)
+
+
+class C:
+    k = 3
+'''
+
+
+def _edits(source):
+    return [(m.kind, mutation.one_line(source, m)) for m in mutation.mutants(source)]
+
+
+def test_every_operator_once_and_nothing_in_docstrings_raise_messages_or_annotations():
+    assert _edits(SOURCE) == [
+        ("constant", "5: def f(a: int = 1, b=2.5) -> float:  ->  def f(a: int = 0, b=2.5) -> float:"),
+        ("constant", "5: def f(a: int = 1, b=2.5) -> float:  ->  def f(a: int = 1, b=5.0) -> float:"),
+        ("if False", "7: if a < b and not a:  ->  if False:"),
+        ("if True", "7: if a < b and not a:  ->  if True:"),
+        ("comparison", "7: if a < b and not a:  ->  if a <= b and not a:"),
+        ("boolean", "7: if a < b and not a:  ->  if a < b or not a:"),
+        ("not x -> x", "7: if a < b and not a:  ->  if a < b and a:"),
+        ("arithmetic", "10: a -= 1  ->  a += 1"),
+        ("constant", "10: a -= 1  ->  a -= 0"),
+        ("break/continue", "11: break  ->  continue"),
+        ("-x -> x", "13: return -a ** 2 / b  ->  return a ** 2 / b"),
+        ("return None", "13: return -a ** 2 / b  ->  return None"),
+        ("arithmetic", "13: return -a ** 2 / b  ->  return -a * 2 / b"),
+        ("constant", "13: return -a ** 2 / b  ->  return -a ** 3 / b"),
+        ("arithmetic", "13: return -a ** 2 / b  ->  return -a ** 2 * b"),
+        ("return None", "19: return x is None  ->  return None"),
+        ("comparison", "19: return x is None  ->  return x is not None"),
+        ("return None", "20: return x in (0, True)  ->  return None"),
+        ("comparison", "20: return x in (0, True)  ->  return x not in (0, True)"),
+        ("constant", "20: return x in (0, True)  ->  return x in (1, True)"),
+        ("True/False", "20: return x in (0, True)  ->  return x in (0, False)"),
+        ("constant", "24: k = 3  ->  k = 4"),
+    ]
+
+
+def test_every_mutant_compiles_and_edits_one_place():
+    for mutant in mutation.mutants(SOURCE):
+        changed = mutation.apply(SOURCE, mutant)
+        compile(changed, "mutant", "exec")
+        assert changed.replace(mutant.text, "", 1) != SOURCE or mutant.text == ""
+        assert len(changed.splitlines()) == len(SOURCE.splitlines())
+
+
+def test_multi_word_operators_and_columns_after_non_ascii_text():
+    source = 'x = "µ" if a is not b else c\ny = a not in b\n'
+    assert [mutation.one_line(source, m) for m in mutation.mutants(source)] == [
+        '1: x = "µ" if a is not b else c  ->  x = "µ" if a is b else c',
+        "2: y = a not in b  ->  y = a in b"]
+
+
+def test_the_sample_depends_on_seed_and_module_only_and_grows_by_extension():
+    first = mutation.sample(500, 20, 1, "simulate/driver")
+    assert first == mutation.sample(500, 20, 1, "simulate/driver")
+    assert len(set(first)) == 20 and set(first) <= set(range(500))
+    assert first != mutation.sample(500, 20, 2, "simulate/driver")
+    assert first != mutation.sample(500, 20, 1, "simulate/events")
+    assert mutation.sample(500, 5, 1, "simulate/driver") == first[:5]
+    assert sorted(mutation.sample(7, 100, 1, "kernels/layout")) == list(range(7))
+
+
+def test_wilson_interval_against_a_hand_computed_value():
+    # 8 of 10, z = 1.96: centre (0.8 + 0.19208) / 1.38416 = 0.716737; half-width
+    # 1.96 / 1.38416 * sqrt(0.016 + 0.009604) = 0.226582
+    low, high = mutation.wilson(8, 10, z=1.96)
+    assert (low, high) == (pytest.approx(0.490155, abs=2e-6), pytest.approx(0.943319, abs=2e-6))
+    assert mutation.wilson(8, 10) == pytest.approx((0.4902, 0.9433), abs=1e-4)
+    assert mutation.wilson(0, 0) == (0.0, 1.0)
+    assert mutation.wilson(5, 5)[1] == 1.0
+
+
+def test_a_line_belongs_to_its_innermost_function():
+    found = mutation.scopes(SOURCE)
+    assert [(s.name, s.first, s.jitted) for s in found] == [
+        ("f", 5, False), ("g", 16, True), ("g.h", 18, True)]
+    assert mutation.innermost(found, 10).name == "f"
+    assert mutation.innermost(found, 16).name == "g"       # the decorator's line
+    assert mutation.innermost(found, 19).name == "g.h"
+    assert mutation.innermost(found, 20).name == "g"
+    assert mutation.innermost(found, 2) is None             # module level
+    assert mutation.innermost(found, 24) is None            # class body
+
+
+def test_time_box():
+    assert [mutation.time_box(e) for e in (1, 20, 100, 400)] == [120, 200, 300, 800]
+
+
+def test_outcomes_from_pytest_status():
+    assert mutation.classify(1, "x\nFAILED tests/a.py::t - boom\n") == (
+        "killed", "FAILED tests/a.py::t - boom")
+    assert mutation.classify(0, "") == ("survived", "")
+    assert mutation.classify(None, "") == ("timeout", "")
+    assert mutation.classify(2, "1 error during collection")[0] == "import error"
+    assert mutation.classify(4, "__ ERROR collecting tests/a.py __\nERROR: found no collectors "
+                                "for tests/a.py::t") == ("import error", "ERROR collecting tests/a.py")
+    assert mutation.classify(-11, "")[0] == "killed"
+    assert mutation.classify(4, "usage")[0] == "error"
+
+
+def test_workers_share_the_queue_and_a_spent_budget_starts_nothing(tmp_path, monkeypatch):
+    """run() with the processes left out: each worker has its own copy (slot), every job
+    runs once, results land in mutants/results/, and a spent budget starts no job."""
+    monkeypatch.setattr(mutation, "WORK", tmp_path)
+    monkeypatch.setattr(mutation, "copy_repository", lambda target: target)
+    monkeypatch.setattr(mutation, "warm", lambda slot: None)
+    ran = []
+
+    def fake(job, slot):                # killed; its control (index -1) passes
+        ran.append((job.index, slot.name))
+        outcome = "survived" if job.index < 0 else "killed"
+        return dict(job.record(), outcome=outcome, detail=f"FAILED {job.tests[0]} - x",
+                    seconds=0.0, commit="c", date="d")
+    monkeypatch.setattr(mutation, "run_mutant", fake)
+    found = mutation.mutants(SOURCE)
+    todo = [mutation.Job("x/y", i, m, SOURCE, ["t"], 60.0, False) for i, m in enumerate(found)]
+    mutation.run(todo, workers=2)
+    assert sorted(i for i, _ in ran) == [-1] + list(range(len(found)))   # one control
+    assert {slot for _, slot in ran} <= {"w0", "w1"}
+    assert len(list((tmp_path / "results" / "x.y").glob("*.json"))) == len(found)
+    ran.clear()
+    mutation.run(todo, workers=2, budget_minutes=0)
+    assert ran == []
