@@ -33,6 +33,7 @@ import json
 import math
 import os
 import random
+import re
 import shutil
 import signal
 import subprocess
@@ -427,15 +428,18 @@ MAPPED = ("mechdyn", "tests", "models", "validation", "README.md", "pyproject.to
 
 def digest() -> str:
     """A hash of what the map depends on (MAPPED: mechdyn, the tests and the files that
-    name tests, as README.md's blocks and models/ do; not docs/, .ci/, benchmarks/ or the
-    harness's own tests) and of the version of the map's format (MAP_FORMAT)."""
+    name tests, as models/ and README.md's code blocks do; not README.md's prose, docs/,
+    .ci/, benchmarks/ or the harness's own tests) and of the map's format (MAP_FORMAT)."""
     h = hashlib.blake2b(f"map format {MAP_FORMAT}".encode(), digest_size=8)
     for name in MAPPED:
         path = ROOT / name
         for file in sorted(path.rglob("*")) if path.is_dir() else [path]:
             rel = file.relative_to(ROOT).as_posix()
             if file.is_file() and "__pycache__" not in file.parts and rel != HARNESS_TESTS:
-                h.update(rel.encode() + b"\0" + file.read_bytes())
+                content = file.read_bytes()
+                if rel == "README.md":
+                    content = b"".join(re.findall(rb"```.*?```", content, re.S))
+                h.update(rel.encode() + b"\0" + content)
     return h.hexdigest()
 
 
@@ -675,6 +679,10 @@ def decide(job: Job, slot: Path, left_out: LeftOut, controls: Path) -> dict:
     return dict(result, total_seconds=round(time.perf_counter() - start, 1))
 
 
+_CONTROL_LOCKS: dict = {}      # a control's file -> the lock its first runner holds
+_CONTROL_LOCKS_LOCK = threading.Lock()
+
+
 def control(job: Job, result: dict, slot: Path, controls: Path):
     """The unmutated package's run of the mutant's tests up to the one that failed (all
     of them after a crash or a timeout), with the same time box: None where it passes,
@@ -684,12 +692,16 @@ def control(job: Job, result: dict, slot: Path, controls: Path):
     tests = job.tests[:job.tests.index(failed) + 1] if failed in job.tests else job.tests
     path = controls / (hashlib.blake2b("\n".join(tests).encode(), digest_size=8).hexdigest()
                        + ".json")
-    if not path.is_file():
-        plain = Job(job.module, -1, Mutant((1, 0), (1, 0), "", "none"), job.source, tests,
-                    job.timeout, False)
-        outcome = run_mutant(plain, slot)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(json.dumps({k: outcome[k] for k in ("outcome", "detail", "seconds")}))
+    with _CONTROL_LOCKS_LOCK:
+        lock = _CONTROL_LOCKS.setdefault(path, threading.Lock())
+    with lock:                                 # one run per list of tests, whoever asks
+        if not path.is_file():
+            plain = Job(job.module, -1, Mutant((1, 0), (1, 0), "", "none"), job.source,
+                        tests, job.timeout, False)
+            outcome = run_mutant(plain, slot)
+            path.parent.mkdir(parents=True, exist_ok=True)
+            path.write_text(json.dumps({k: outcome[k]
+                                        for k in ("outcome", "detail", "seconds")}))
     outcome = json.loads(path.read_text())
     if outcome["outcome"] == "survived":
         return None

@@ -2,6 +2,7 @@
 sample, the Wilson interval, and which function holds a line."""
 import importlib.util
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -135,7 +136,8 @@ def test_outcomes_from_pytest_status():
 
 def test_workers_share_the_queue_and_a_spent_budget_starts_nothing(tmp_path, monkeypatch):
     """run() with the processes left out: each worker has its own copy (slot), every job
-    runs once, results land in mutants/results/, and a spent budget starts no job."""
+    runs once, two workers' kills at the same test share one control run, results land
+    in mutants/results/, and a spent budget starts no job."""
     monkeypatch.setattr(mutation, "WORK", tmp_path)
     monkeypatch.setattr(mutation, "copy_repository", lambda target: target)
     monkeypatch.setattr(mutation, "warm", lambda slot: None)
@@ -143,6 +145,8 @@ def test_workers_share_the_queue_and_a_spent_budget_starts_nothing(tmp_path, mon
 
     def fake(job, slot):                # killed; its control (index -1) passes
         ran.append((job.index, slot.name))
+        if job.index < 0:
+            time.sleep(0.2)             # the other worker asks for the same control meanwhile
         outcome = "survived" if job.index < 0 else "killed"
         return dict(job.record(), outcome=outcome, detail=f"FAILED {job.tests[0]} - x",
                     seconds=0.0, commit="c", date="d")
