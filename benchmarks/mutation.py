@@ -69,7 +69,9 @@ MAP_FORMAT = 2            # raise it when the map's recording (mutation_probe.py
 JIT_DECORATORS = {"njit", "jit", "intrinsic", "cfunc", "overload", "vectorize", "guvectorize"}
 STARTUP = 5.0             # s: interpreter, imports, pytest's start (3 s here), beside collection
 KERNEL_COMPILE = 30.0     # s: numba compiling the kernels afresh (12-15 s on a quiet core)
-DECIDED = {"killed", "timeout", "import error", "survived", "no tests"}
+CAP = 60.0                # s of a mutant's tests after which it counts as not killed (capped)
+CAPPED = 6                # the exit status of a run the probe stopped at the cap
+DECIDED = {"killed", "timeout", "import error", "survived", "capped", "no tests"}
 CAUGHT = {"killed", "timeout", "import error"}
 
 
@@ -550,6 +552,7 @@ class Job:
     tests: list           # node ids, fastest first
     timeout: float
     private: bool         # numba compiles the kernels afresh (a mutant of compiled code)
+    cap: float = CAP      # s of tests, after which a mutant not killed counts as capped
 
     @property
     def rel(self):
@@ -613,7 +616,8 @@ def run_mutant(job: Job, slot: Path) -> dict:
         return dict(record, outcome="no tests", seconds=0.0)
     target = slot / job.rel
     cache, env = _fresh_cache(slot, job.private)
-    env.update(MECHDYN_MUTATION_SLOT=str(slot), MECHDYN_MUTATION_ORDER=str(cache / "tests.txt"))
+    env.update(MECHDYN_MUTATION_SLOT=str(slot), MECHDYN_MUTATION_ORDER=str(cache / "tests.txt"),
+               MECHDYN_MUTATION_CAP=str(job.cap))
     (cache / "tests.txt").write_text("\n".join(job.tests))
     target.write_text(apply(job.source, job.mutant))
     _drop_bytecode(target)
@@ -697,7 +701,7 @@ def control(job: Job, result: dict, slot: Path, controls: Path):
     with lock:                                 # one run per list of tests, whoever asks
         if not path.is_file():
             plain = Job(job.module, -1, Mutant((1, 0), (1, 0), "", "none"), job.source,
-                        tests, job.timeout, False)
+                        tests, job.timeout, False, math.inf)     # all of them, uncapped
             outcome = run_mutant(plain, slot)
             path.parent.mkdir(parents=True, exist_ok=True)
             path.write_text(json.dumps({k: outcome[k]
@@ -723,6 +727,9 @@ def classify(status, output: str) -> tuple:
         return "timeout", ""
     if status == 0:
         return "survived", ""
+    if status == CAPPED:
+        said = next((l for l in lines if "mutation cap" in l), "")
+        return "capped", said[said.find("mutation cap"):].strip(" !")
     if status == 1:
         return "killed", failed[0] if failed else ""
     if status in (2, 4) and any(("during collection" in l or "ERROR collecting" in l or
@@ -769,7 +776,8 @@ def recorded(module, index, source, mutant):
 def table(chosen, wall=None, left_out=()) -> str:
     """The scores of the sampled mutants' recorded results, and the survivors."""
     head = ["| module | mutants | sampled | decided | killed | timeout | import error | "
-            "survived | no tests | score (95 % interval) |", "|" + " --- |" + " ---: |" * 9]
+            "survived | capped | no tests | score (95 % interval) |",
+            "|" + " --- |" + " ---: |" * 10]
     rows, survivors, seconds, commits = [], [], [], set()
     total = dict.fromkeys(("population", "sampled", *DECIDED), 0)
     for module, source, found, indices in chosen:
@@ -780,7 +788,7 @@ def table(chosen, wall=None, left_out=()) -> str:
                 count[result["outcome"]] += 1
                 seconds.append(result.get("total_seconds", result["seconds"]))
                 commits.add(result["commit"])
-                if result["outcome"] in ("survived", "no tests"):
+                if result["outcome"] in ("survived", "capped", "no tests"):
                     survivors.append(f"{module}:{index} ({result['outcome']}, "
                                      f"{result['kind']}) {result['diff']}")
         for k, v in [("population", len(found)), ("sampled", len(indices)), *count.items()]:
@@ -793,7 +801,8 @@ def table(chosen, wall=None, left_out=()) -> str:
     lines = [f"Mutation scores, {date.today().isoformat()}, commit {commit()} (results of "
              f"commits {', '.join(sorted(commits)) or '-'}); {run}", "", *head, *rows, "",
              "score = (killed + timeout + import error) / decided; decided = killed + "
-             "timeout + import error + survived + no tests", "",
+             "timeout + import error + survived + capped + no tests (capped: no test failed "
+             "in the first CAP seconds of its tests, counted as not killed)", "",
              f"{len(survivors)} survivors (`--show MODULE:INDEX` for the diff):",
              *[f"- {s}" for s in sorted(survivors)]]
     if left_out:
@@ -810,14 +819,15 @@ def _row(module, population, sampled, count) -> str:
         if decided else "-"
     return (f"| {module} | {population} | {sampled} | {decided} | {count['killed']} | "
             f"{count['timeout']} | {count['import error']} | {count['survived']} | "
-            f"{count['no tests']} | {score} |")
+            f"{count['capped']} | {count['no tests']} | {score} |")
 
 
 # ---------------------------------------------------------------- the run
 
-def jobs(chosen, test_map: ReachMap, survivors_only=False) -> list:
+def jobs(chosen, test_map: ReachMap, survivors_only=False, cap=CAP) -> list:
     """The sampled mutants still to run (or, with ``survivors_only``, those that
-    survived), round robin over the modules: a time box leaves every module a share."""
+    survived or were capped), round robin over the modules: a time box leaves every module
+    a share. Each stops as capped after ``cap`` seconds of tests without a failure."""
     queues = []
     for module, source, found, indices in chosen:
         rel = f"mechdyn/{module}.py"
@@ -827,7 +837,8 @@ def jobs(chosen, test_map: ReachMap, survivors_only=False) -> list:
             result = recorded(module, index, source, found[index])
             wanted = result is None or result["outcome"] not in DECIDED
             if survivors_only:
-                wanted = result is not None and result["outcome"] in ("survived", "no tests")
+                wanted = result is not None and result["outcome"] in ("survived", "capped",
+                                                                      "no tests")
             if not wanted:
                 continue
             mutant = found[index]
@@ -835,7 +846,8 @@ def jobs(chosen, test_map: ReachMap, survivors_only=False) -> list:
             private = rel in test_map.compiled
             expected = test_map.expected(tests) + (KERNEL_COMPILE if private else 0.0)
             queue.append(Job(module, index, mutant, source,
-                             [test_map.tests[i][0] for i in tests], time_box(expected), private))
+                             [test_map.tests[i][0] for i in tests], time_box(expected), private,
+                             cap))
         queues.append(queue)
     return [job for round_ in _round_robin(queues) for job in round_]
 
@@ -917,6 +929,9 @@ def main(argv=None):
     parser.add_argument("--workers", type=int, default=2, help="mutants run at once")
     parser.add_argument("--budget-minutes", type=float, metavar="M",
                         help="start no mutant after M minutes")
+    parser.add_argument("--cap-seconds", type=float, default=CAP, metavar="C",
+                        help="a mutant no test killed in C s of its tests counts as capped, "
+                             f"not killed (default {CAP:.0f}; inf for none)")
     parser.add_argument("--map-workers", type=int, default=1,
                         help="pytest-xdist processes of the map's test run (default 1)")
     action = parser.add_mutually_exclusive_group()
@@ -938,7 +953,7 @@ def main(argv=None):
     chosen = selection(modules_of(args.modules), args.sample, args.seed)
     wall, left_out = None, LeftOut(WORK / f"left-out-{digest()}.json")
     if not args.report:
-        todo = jobs(chosen, load_map(args.map_workers), args.survivors)
+        todo = jobs(chosen, load_map(args.map_workers), args.survivors, args.cap_seconds)
         print(f"{len(todo)} mutants to run on {args.workers} workers", flush=True)
         wall = run(todo, args.workers, args.budget_minutes, left_out)
     print(table(chosen, wall, left_out.tests))

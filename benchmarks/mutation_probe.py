@@ -10,7 +10,9 @@ a process: pytest-xdist's workers each write theirs); a process a test starts (i
 ``MECHDYN_MUTATION_TEST``) writes ``<folder>/child-<pid>.json`` at exit.
 Mutant mode (``MECHDYN_MUTATION_ORDER`` = a file of node ids): runs the tests in that
 order, after checking that mechdyn is imported from the copy (``MECHDYN_MUTATION_SLOT``):
-a mutant tested against the unmutated package would pass as a survivor.
+a mutant tested against the unmutated package would pass as a survivor. Once the tests have
+run ``MECHDYN_MUTATION_CAP`` seconds, no further test starts: the run exits with status
+6 (``mutation cap``), the mutant counted as not killed.
 """
 import json
 import os
@@ -22,7 +24,8 @@ from pathlib import Path
 import pytest
 
 MAP, TEST = "MECHDYN_MUTATION_MAP", "MECHDYN_MUTATION_TEST"
-ORDER, SLOT = "MECHDYN_MUTATION_ORDER", "MECHDYN_MUTATION_SLOT"
+ORDER, SLOT, CAP = "MECHDYN_MUTATION_ORDER", "MECHDYN_MUTATION_SLOT", "MECHDYN_MUTATION_CAP"
+CAPPED = 6                                      # the exit status of a run stopped at the cap
 ROOT = Path(__file__).resolve().parent          # the copy: mechdyn/ and tests/ are here
 
 
@@ -126,10 +129,22 @@ class Recorder:
 
 
 class Ordered:
-    """Mutant mode: the given tests, in the given order, against the copy's mechdyn."""
+    """Mutant mode: the given tests, in the given order, against the copy's mechdyn,
+    stopping after ``cap`` seconds of them."""
 
-    def __init__(self, order):
+    def __init__(self, order, cap=float("inf")):
         self.order = {nodeid: i for i, nodeid in enumerate(order)}
+        self.cap, self.spent, self.ran = cap, 0.0, 0
+
+    @pytest.hookimpl(hookwrapper=True)
+    def pytest_runtest_protocol(self, item, nextitem):
+        start = time.perf_counter()
+        yield
+        self.spent += time.perf_counter() - start
+        self.ran += 1
+        if nextitem is not None and self.spent > self.cap and not item.session.testsfailed:
+            pytest.exit(f"mutation cap: {self.ran} tests passed in {self.spent:.0f} s, "
+                        "the rest not run", returncode=CAPPED)
 
     def pytest_collection_modifyitems(self, items):
         items.sort(key=lambda item: self.order.get(item.nodeid, len(self.order)))
@@ -147,4 +162,5 @@ def pytest_configure(config):
         config.pluginmanager.register(Recorder(), "mutation-map")
     elif os.environ.get(ORDER):
         order = Path(os.environ[ORDER]).read_text().split("\n")
-        config.pluginmanager.register(Ordered(order), "mutation-order")
+        cap = float(os.environ.get(CAP, "inf"))
+        config.pluginmanager.register(Ordered(order, cap), "mutation-order")

@@ -160,3 +160,33 @@ def test_workers_share_the_queue_and_a_spent_budget_starts_nothing(tmp_path, mon
     ran.clear()
     mutation.run(todo, workers=2, budget_minutes=0)
     assert ran == []
+
+
+def test_a_run_past_the_cap_stops_between_tests_and_counts_as_not_killed(tmp_path):
+    """The probe in mutant mode: after MECHDYN_MUTATION_CAP seconds of tests no further
+    test starts, the run exits with the capped status and classify() calls it capped (not
+    killed, not survived); without a cap the same tests all run and pass."""
+    import os
+    import shutil
+    import subprocess
+    shutil.copy(_PATH.with_name("mutation_probe.py"), tmp_path)
+    (tmp_path / "tests").mkdir()
+    (tmp_path / "tests" / "test_a.py").write_text(
+        "import time\n" + "".join(f"def test_{i}():\n    time.sleep(0.1)\n" for i in range(4)))
+    order = tmp_path / "order.txt"
+    order.write_text("\n".join(f"tests/test_a.py::test_{i}" for i in range(4)))
+
+    def run(**extra):
+        env = dict(os.environ, PYTHONPATH=str(tmp_path), MECHDYN_MUTATION_ORDER=str(order),
+                   MECHDYN_MUTATION_SLOT=str(tmp_path), **extra)
+        done = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider",
+                               "-o", "addopts=", "-p", "mutation_probe", "-x", "tests"],
+                              cwd=tmp_path, env=env, capture_output=True, text=True)
+        return done.returncode, done.stdout + done.stderr
+
+    status, output = run(MECHDYN_MUTATION_CAP="0.05")    # passed after the first test
+    assert status == mutation.CAPPED
+    outcome, detail = mutation.classify(status, output)
+    assert outcome == "capped" and detail.startswith("mutation cap: 1 tests passed")
+    status, output = run()
+    assert status == 0 and "4 passed" in output
