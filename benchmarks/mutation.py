@@ -300,23 +300,57 @@ class Scope:
 
 
 def scopes(source: str) -> list:
-    """The functions of a module, outermost first."""
+    """The functions of a module, outermost first. Compiled (``jitted``): a function
+    decorated by numba, one inside it, and in a module that calls numba's decorators
+    as functions (``cfunc(signature)(implementation)``, as compile/mode_entry.py does),
+    every module-level function named outside its own body."""
     found = []
+    tree = ast.parse(source)
+    by_call = _compiled_by_call(tree)
 
     def walk(node, prefix, jitted):
         for child in ast.iter_child_nodes(node):
             if isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef)):
                 first = min([d.lineno for d in child.decorator_list] + [child.lineno])
-                inner = jitted or any(_decorator_name(d) in JIT_DECORATORS
-                                      for d in child.decorator_list)
+                inner = jitted or child.name in by_call and not prefix or any(
+                    _decorator_name(d) in JIT_DECORATORS for d in child.decorator_list)
                 found.append(Scope(first, child.end_lineno, prefix + child.name, inner))
                 walk(child, prefix + child.name + ".", inner)
             elif isinstance(child, ast.ClassDef):
                 walk(child, prefix + child.name + ".", jitted)
             else:
                 walk(child, prefix, jitted)
-    walk(ast.parse(source), "", False)
+    walk(tree, "", False)
     return found
+
+
+def _compiled_by_call(tree) -> set:
+    """Names of module-level functions that may be handed to a numba decorator called
+    as a function: every one named outside its own body, where the module makes such a
+    call (none otherwise)."""
+    decorators = {id(d) for node in ast.walk(tree)
+                  if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef))
+                  for d in node.decorator_list}
+    from_numba = {alias.asname or alias.name for node in ast.walk(tree)
+                  if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("numba")
+                  for alias in node.names if alias.name in JIT_DECORATORS}
+
+    def numba_call(node):
+        function = node.func
+        if isinstance(function, ast.Attribute):         # numba.cfunc(...)
+            return function.attr in JIT_DECORATORS and getattr(function.value, "id", "") == "numba"
+        return getattr(function, "id", None) in from_numba
+    if not any(isinstance(node, ast.Call) and id(node) not in decorators and numba_call(node)
+               for node in ast.walk(tree)):
+        return set()
+    functions = {node.name: node for node in tree.body
+                 if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef))}
+    named = set()
+    for name, function in functions.items():
+        inside = {id(n) for n in ast.walk(function)}
+        named |= {name for n in ast.walk(tree) if isinstance(n, ast.Name) and n.id == name
+                  and id(n) not in inside}
+    return named
 
 
 def _decorator_name(node):
@@ -393,7 +427,8 @@ class ReachMap:
         self.calls = {f: {int(k): v for k, v in lines.items()}
                       for f, lines in data["calls"].items()}
         self.usable = {i for i, (_, _, outcome) in enumerate(self.tests) if outcome == "passed"}
-        self.compiled = set(data["compiled"])
+        self.compiled = compiled_files()           # of the sources now: cheap, and a
+                                                   # change of the rule needs no new map
         self.at_import = {rel: set(lines) for rel, lines in data["at_import"].items()}
         self.compiled_runs = set().union(*(self.touching(rel) for rel in COMPILED_ENTRIES))
 
@@ -780,6 +815,7 @@ def table(chosen, wall=None, left_out=()) -> str:
             "|" + " --- |" + " ---: |" * 10]
     rows, survivors, seconds, commits = [], [], [], set()
     total = dict.fromkeys(("population", "sampled", *DECIDED), 0)
+    packages = {}
     for module, source, found, indices in chosen:
         count = dict.fromkeys(DECIDED, 0)
         for index in indices:
@@ -791,9 +827,13 @@ def table(chosen, wall=None, left_out=()) -> str:
                 if result["outcome"] in ("survived", "capped", "no tests"):
                     survivors.append(f"{module}:{index} ({result['outcome']}, "
                                      f"{result['kind']}) {result['diff']}")
+        package = packages.setdefault(module.split("/")[0], dict.fromkeys(total, 0))
         for k, v in [("population", len(found)), ("sampled", len(indices)), *count.items()]:
             total[k] += v
+            package[k] += v
         rows.append(_row(module, len(found), len(indices), count))
+    for name, package in sorted(packages.items()):
+        rows.append(_row(f"**{name}/**", package["population"], package["sampled"], package))
     rows.append(_row("**all**", total["population"], total["sampled"], total))
     run = (f"wall time {wall / 60:.1f} min, " if wall is not None else "") + (
         f"{len(seconds)} mutants decided, {sum(seconds) / 60:.1f} min of runs "

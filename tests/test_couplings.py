@@ -39,6 +39,15 @@ def test_static_peak_delays_the_breakaway_and_the_block_then_slides_with_6_N():
     assert res.outputs_at([1.5])["floor"][0] == pytest.approx(-6.0, rel=1e-12)
 
 
+def test_the_printed_derivation_states_a_static_limit_above_the_sliding_friction():
+    """peak 1.5 on 6 N: the floor holds up to 9 N, and the derivation says so; without a
+    peak the limit is the sliding friction and no line is printed for it."""
+    limit = [line for line in block(1.5).latex().splitlines()
+             if line.startswith("\\lambda^{\\max}_{\\text{floor}}")]
+    assert len(limit) == 1 and "&= 9.0" in limit[0]
+    assert "\\lambda^{\\max}" not in block(1).latex()
+
+
 def test_without_a_peak_the_block_breaks_away_at_the_sliding_friction():
     scene = md.Scene("push", initial={x: 0, md.speed(x): 0}, t_end=1)
     res = block(1).simulate(scene, {})

@@ -170,3 +170,31 @@ def test_an_ignored_crossing_does_not_stop_and_the_watched_one_is_exact():
     assert chunk.fired.tolist() == [0, 1]
     run, chunk = clock_run(0.9, True, [2, -1])         # it never falls
     assert chunk.status == mk.FINISHED and run.t == 1.0
+
+
+@njit(mk.RHS_SIGNATURE, cache=True)
+def _decay(t, y, p, out):
+    out[0] = -p[0] * y[0]
+
+
+@njit(mk.JAC_SIGNATURE, cache=True)
+def _decay_jacobian(t, y, p, out):
+    out[0, 0] = -p[0]
+
+
+def test_rodas_counts_one_jacobian_an_accepted_step_and_eight_evaluations_an_attempt():
+    """Counts of an autonomous run with an analytic Jacobian, from the kernel's own
+    rule: f at the start and one for the first step's size, then per attempt one LU and
+    eight evaluations (seven stages and the new point); the Jacobian is evaluated before
+    each accepted step's first attempt (a rejected attempt reuses it)."""
+    run = mk.Integration(mk.model_functions(_decay, _decay_jacobian), [50.0], 0.0, [1.0],
+                         method=mk.RODAS5P, rtol=1e-8, atol=1e-10, autonomous=True,
+                         detect_switch=False)
+    assert run.advance(1.0, 10_000).status == mk.FINISHED
+    stats = run.stats
+    attempts = stats["naccept"] + stats["nreject"]
+    assert stats["nreject"] > 0 or stats["naccept"] > 10
+    assert stats["nlu"] == attempts
+    assert stats["njev"] == stats["naccept"]
+    assert stats["nfev"] == 2 + 8 * attempts
+    assert run.y[0] == pytest.approx(math.exp(-50.0), abs=1e-9)

@@ -187,3 +187,27 @@ def test_a_large_chain_is_judged_stiff_by_its_damping_as_the_eigenvalues_say(dam
     if stiff:
         assert float(why.split()[2]) == pytest.approx(
             4 * damping / VALUES["J"] * math.cos(math.pi / (2 * n)) ** 2, rel=0.05)
+
+
+@pytest.mark.parametrize("backend", ["scipy", "compiled"])
+def test_a_constraint_among_more_than_eight_coordinates_moves_as_its_closed_form(backend):
+    """Nine free discs (beyond the unrolled solve: the constrained accelerations are
+    solved numerically, compile/loop_numeric.py), the first two tied by phi_0 = phi_1 and
+    driven by M on the first: they turn together, phi = M t^2 / (2 (J_0 + J_1)), the rest
+    stay at rest."""
+    n, drive = 9, 3.0
+    angles = md.coordinates(" ".join(f"b{i}" for i in range(n)))
+    mech = md.Mechanism("tied discs", angles, independent=[angles[0], *angles[2:]])
+    inertia = [0.5 + 0.25 * i for i in range(n)]
+    for i, angle in enumerate(angles):
+        mech.link(f"disc {i}", J=inertia[i], angle=angle)
+    mech.constraint("tie", angles[0] - angles[1])
+    mech.load("drive", drive, along=angles[0])
+    scene = md.Scene("tied", initial={**{a: 0 for a in angles},
+                                      **{md.speed(a): 0 for a in angles}},
+                     t_end=2.0, rtol=1e-10, atol=1e-12, backend=backend)
+    result = mech.simulate(scene, {})
+    expected = drive * 2.0 ** 2 / (2 * (inertia[0] + inertia[1]))
+    assert result.final(angles[0]) == pytest.approx(expected, rel=1e-8)
+    assert result.final(angles[1]) == pytest.approx(expected, rel=1e-8)
+    assert all(abs(result.final(a)) < 1e-9 for a in angles[2:])

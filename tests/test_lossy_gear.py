@@ -155,3 +155,16 @@ def test_a_two_stage_gearbox_loses_eta_squared_of_the_drive():
                                 t_end=1), {})
     a_b = 2 * 0.8 * 10 / (0.2 * 2 + 8 * 0.8 * 0.1 + 1.0 / (2 * 0.8))
     assert res.final(md.speed(b)) == pytest.approx(a_b, rel=1e-10)
+
+
+def test_the_printed_mesh_loss_has_both_directions_of_power_flow():
+    """MSL LossyGear's loss as a function of the mesh moment tau: (1 - eta_f) tau forward,
+    (1 - 1/eta_b) tau backward, the larger of the two; a self-locking gear (eta_b <= 0)
+    has the forward law alone."""
+    def loss_line(**law):
+        latex = two_shafts(**law)[0].latex()
+        return next(line for line in latex.splitlines() if line.startswith("\\tau_{\\mathrm{loss}"))
+    both = loss_line(eta_forward=0.9, eta_backward=0.8)
+    assert "\\max" in both and "0.1 \\tau_{gear}" in both and "- 0.25 \\tau_{gear}" in both
+    locking = loss_line(eta_forward=0.9, eta_backward=-0.5)
+    assert "\\max" not in locking and "0.1 \\tau_{gear}" in locking

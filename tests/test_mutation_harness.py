@@ -118,6 +118,18 @@ def test_a_line_belongs_to_its_innermost_function():
     assert mutation.innermost(found, 24) is None            # class body
 
 
+def test_a_function_compiled_by_calling_numba_counts_as_compiled():
+    """compile/mode_entry.py's way: ``cfunc(signature)(implementation)`` in a function;
+    numpy's ``vectorize`` called the same way is not numba."""
+    by_call = ("from numba import cfunc\n\n\ndef impl(x):\n    return x\n\n\n"
+               "def build(sig):\n    return cfunc(sig)(impl)\n\n\ndef unused():\n"
+               "    return 1\n")
+    assert [(s.name, s.jitted) for s in mutation.scopes(by_call)] == [
+        ("impl", True), ("build", False), ("unused", False)]
+    by_numpy = by_call.replace("from numba import cfunc", "from numpy import vectorize as cfunc")
+    assert not any(s.jitted for s in mutation.scopes(by_numpy))
+
+
 def test_time_box():
     assert [mutation.time_box(e) for e in (1, 20, 100, 400)] == [120, 200, 300, 800]
 

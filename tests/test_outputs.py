@@ -79,6 +79,8 @@ def test_sample_times_are_exact_multiples(brake):
     res = brake.mechanism.simulate(brake.scenes["braking"], brake.params)
     times = res.sample_times(0.001)
     assert len(times) == 50001 and times[300] == 0.3 and times[-1] == 50.0
+    # k / 1000, the nearest double to each multiple (k * 0.001 misses 282 of the first 2000)
+    assert times[:2000].tolist() == [k / 1000 for k in range(2000)]
     assert res.sample_times(7.0)[-2:].tolist() == [49.0, res.t_end]    # the end is kept
     with pytest.raises(md.MechdynError, match="positive time step"):
         res.sample_times(0)

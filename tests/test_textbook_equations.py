@@ -103,15 +103,20 @@ def test_user_slider_crank_matches_the_hand_worked_reduction():
 def test_worked_examples_reduced_quantities_in_the_named_derivation(name, inertia, moment):
     model = md.load_model(MODELS / f"{name}.py")
     book = model.mechanism.derivation()
+    assert not book.budget_spent                # a small machine is simplified in full
     names = {s.name: s for s in model.mechanism.equations().parameters}
     names["phi"] = model.mechanism.equations().q[0]
     hand_inertia = sp.parse_expr(inertia, local_dict=names)
     hand_moment = sp.parse_expr(moment, local_dict=names)
     assert sp.simplify(book.expand(book.reduced_inertia) - hand_inertia) == 0
     assert sp.simplify(book.expand(book.reduced_moment) - hand_moment) == 0
-    # I_red eps + 1/2 I_red' omega^2 = M_red: 1/2 I_red' by hand
+    # I_red eps + 1/2 I_red' omega^2 = M_red: 1/2 I_red' by hand, and the velocity term
+    # 1/2 I_red' omega^2 the equation prints
     assert sp.simplify(book.expand(book.reduced_inertia_slope) / 2
                        - sp.diff(hand_inertia, names["phi"]) / 2) == 0
+    omega = model.mechanism.equations().u[0]
+    assert sp.simplify(book.expand(book.velocity_terms[0])
+                       - sp.diff(hand_inertia, names["phi"]) / 2 * omega**2) == 0
     if name == "scotch_yoke":                  # m3 l^2 sin(phi) cos(phi), the source's form
         l, m3, phi = names["l"], names["m_3"], names["phi"]
         assert sp.simplify(book.expand(book.reduced_inertia_slope) / 2
@@ -152,6 +157,19 @@ def test_expanded_form_writes_every_term_in_the_coordinates(capsys):
     latex = _in_process(capsys, MODELS / "scotch_yoke.py", "--expanded")
     inertia = _lines(latex)["I_{\\mathrm{red}}"]
     assert "\\sin" in inertia and "prime" not in latex
+
+
+def test_the_expanded_equation_of_motion_has_half_the_inertia_slope(capsys):
+    """I_red phi'' + 1/2 dI_red/dphi phi'^2 = M_red of the Scotch yoke, written out:
+    I_red = J_1A + m_3 l^2 sin^2 phi, so the velocity term is m_3 l^2 sin cos phi'^2."""
+    text = _in_process(capsys, MODELS / "scotch_yoke.py", "--expanded", "--format", "text")
+    line = next(line for line in text.splitlines() if "equation of motion:" in line)
+    lhs = line.split("equation of motion:")[1].split("=")[0]
+    names = {n: sp.Symbol(n) for n in ("l", "m_3", "J_1A", "phi", "phidot", "phiddot")}
+    names.update(sin=sp.sin, cos=sp.cos)
+    l, m3, J1A, phi, w, a = (names[n] for n in ("l", "m_3", "J_1A", "phi", "phidot", "phiddot"))
+    by_hand = (J1A + m3 * l**2 * sp.sin(phi)**2) * a + m3 * l**2 * sp.sin(phi) * sp.cos(phi) * w**2
+    assert sp.simplify(sp.parse_expr(lhs, local_dict=names) - by_hand) == 0
 
 
 def test_a_spent_budget_is_said_and_the_expressions_print_as_derived(capsys):
