@@ -18,6 +18,7 @@ from numba import njit, types
 from ..numba_cache import CACHED
 from ..progress import announce
 from . import dop853, rodas
+from .band import BAND_MIN, bandwidths, is_narrow, order_states
 from .events import locate
 from .functions import as_jac, as_rhs
 from .layout import (CHUNK_FULL, DEGREE, DOP853, ERR_ACCEPTED, EVENT, EVENTS_VALID,
@@ -135,6 +136,10 @@ def _compile(fingerprint):
         J = np.zeros((n, n))
         W = np.zeros((n, n))
         pivots = np.zeros(n, np.int64)
+        order, position, degree = (np.zeros(n, np.int64), np.zeros(n, np.int64),
+                                   np.zeros(n, np.int64))
+        band = np.full(2, -1, np.int64)       # (kl, ku) of a banded iteration matrix
+        ordered = False
         g_old, g_new, g_mid, g_work = np.zeros(m), np.zeros(m), np.zeros(m), np.zeros(m)
         memory = np.zeros(m, np.int64)
 
@@ -213,8 +218,16 @@ def _compile(fingerprint):
                         counts[NFEV] += 1
                     rho = rodas.spectral_radius(J, power_vector, w1, w2)
                     need_jacobian = False
+                    if n >= BAND_MIN:          # a large model: is its Jacobian a band?
+                        if not ordered:
+                            order_states(J, order, position, degree)
+                            ordered = True
+                        kl, ku = bandwidths(J, position)
+                        narrow = is_narrow(n, kl, ku)
+                        band[0], band[1] = (kl, ku) if narrow else (-1, -1)
                 err = rodas.attempt(rhs, t, y, f0, h, t_new, p, atol, rtol, J, dfdt,
-                                    autonomous, W, pivots, K, y_stage, w1, y_new, f_new)
+                                    autonomous, W, pivots, K, y_stage, w1, y_new, f_new,
+                                    band, order, w2)
                 counts[NLU] += 1
                 if not math.isnan(err):
                     counts[NFEV] += 8
@@ -311,8 +324,8 @@ def _compile(fingerprint):
     return integrate
 
 
-COMPILED_MODULES = ("dop853", "dop853_tableau", "events", "functions", "layout", "linalg",
-                    "loop", "rodas")
+COMPILED_MODULES = ("band", "dop853", "dop853_tableau", "events", "functions", "layout",
+                    "linalg", "loop", "rodas")
 
 
 def _fingerprint():

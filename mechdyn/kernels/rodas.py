@@ -23,6 +23,7 @@ import math
 import numpy as np
 from numba import njit
 
+from .band import band_factor, band_solve, fill_band
 from .linalg import lu_factor, lu_solve, stage_sum
 
 GAMMA = 0.21193756319429014
@@ -107,8 +108,10 @@ def time_derivative(rhs, t, y, f0, p, dfdt):
 
 @njit
 def attempt(rhs, t, y, f0, h, t_new, p, atol, rtol, J, dfdt, autonomous, W, pivots, ks,
-            y_stage, f_stage, y_new, f_new):
+            y_stage, f_stage, y_new, f_new, band, order, b_work):
     """Try a step of size ``h`` to ``t_new``: fills ks, y_new and f_new = f(t_new, y_new).
+    ``band`` = (kl, ku): the iteration matrix is factored as a band in the states'
+    ``order`` (:mod:`mechdyn.kernels.band`, ``b_work`` its work vector); kl < 0: dense.
 
     Returns the error norm: inf if something is not finite, NaN if the iteration matrix
     is singular (the caller halves the step).
@@ -116,12 +119,19 @@ def attempt(rhs, t, y, f0, h, t_new, p, atol, rtol, J, dfdt, autonomous, W, pivo
     n = y.shape[0]
     inverse_h = 1.0 / h
     inverse_hg = inverse_h / GAMMA
-    for i in range(n):
-        for j in range(n):
-            W[i, j] = -J[i, j]
-        W[i, i] += inverse_hg
-    if not lu_factor(W, pivots):
-        return math.nan
+    kl, ku = band[0], band[1]
+    ab = W[:, :2 * kl + ku + 1] if kl >= 0 else W[:, :0]
+    if kl >= 0:
+        fill_band(J, order, inverse_hg, ab, kl, ku)
+        if not band_factor(ab, kl, ku, pivots):
+            return math.nan
+    else:
+        for i in range(n):
+            for j in range(n):
+                W[i, j] = -J[i, j]
+            W[i, i] += inverse_hg
+        if not lu_factor(W, pivots):
+            return math.nan
     for s in range(8):
         if s == 0:
             for i in range(n):
@@ -137,7 +147,14 @@ def attempt(rhs, t, y, f0, h, t_new, p, atol, rtol, J, dfdt, autonomous, W, pivo
             for j in range(s):
                 total += C[s, j] * inverse_h * ks[j, i]
             ks[s, i] = total
-        lu_solve(W, pivots, ks[s])
+        if kl >= 0:
+            for i in range(n):
+                b_work[i] = ks[s, order[i]]
+            band_solve(ab, kl, ku, pivots, b_work)
+            for i in range(n):
+                ks[s, order[i]] = b_work[i]
+        else:
+            lu_solve(W, pivots, ks[s])
     for i in range(n):
         y_new[i] = y_stage[i] + ks[7, i]
     rhs(t_new, y_new, p, f_new)
