@@ -57,19 +57,26 @@ def band_solve(m, bw, b):
 
 @njit(cache=CACHED, error_model="numpy")
 def band_solve_rows(m, bw, out, first):
-    """Solve ``L L' X = B`` in place for ``B = out[first:first + n, :]`` (every column)."""
+    """Solve ``L L' X = B`` in place for ``B = out[first:first + n, :]`` (every column),
+    a row of ``B`` at a time (contiguous: the columns are updated together)."""
     n = m.shape[0]
-    for c in range(out.shape[1]):
-        for i in range(n):
-            total = out[first + i, c]
-            for k in range(max(0, i - bw), i):
-                total -= m[i, i - k] * out[first + k, c]
-            out[first + i, c] = total / m[i, 0]
-        for i in range(n - 1, -1, -1):
-            total = out[first + i, c]
-            for k in range(i + 1, min(n, i + bw + 1)):
-                total -= m[k, k - i] * out[first + k, c]
-            out[first + i, c] = total / m[i, 0]
+    columns = out.shape[1]
+    for i in range(n):
+        for k in range(max(0, i - bw), i):
+            factor = m[i, i - k]
+            for c in range(columns):
+                out[first + i, c] -= factor * out[first + k, c]
+        pivot = m[i, 0]
+        for c in range(columns):
+            out[first + i, c] /= pivot
+    for i in range(n - 1, -1, -1):
+        for k in range(i + 1, min(n, i + bw + 1)):
+            factor = m[k, k - i]
+            for c in range(columns):
+                out[first + i, c] -= factor * out[first + k, c]
+        pivot = m[i, 0]
+        for c in range(columns):
+            out[first + i, c] /= pivot
 
 
 @njit(cache=CACHED)

@@ -138,7 +138,8 @@ def _compile(fingerprint):
         pivots = np.zeros(n, np.int64)
         order, position, degree = (np.zeros(n, np.int64), np.zeros(n, np.int64),
                                    np.zeros(n, np.int64))
-        band = np.full(2, -1, np.int64)       # (kl, ku) of a banded iteration matrix
+        reach = np.full(2, -1, np.int64)      # (kl, ku): J's band in that order (-1: dense)
+        band = np.full(2, -1, np.int64)       # the same where a banded LU is worth it
         ordered = False
         g_old, g_new, g_mid, g_work = np.zeros(m), np.zeros(m), np.zeros(m), np.zeros(m)
         memory = np.zeros(m, np.int64)
@@ -216,15 +217,16 @@ def _compile(fingerprint):
                     if not autonomous:
                         rodas.time_derivative(rhs, t, y, f0, p, dfdt)
                         counts[NFEV] += 1
-                    rho = rodas.spectral_radius(J, power_vector, w1, w2)
-                    need_jacobian = False
                     if n >= BAND_MIN:          # a large model: is its Jacobian a band?
                         if not ordered:
                             order_states(J, order, position, degree)
                             ordered = True
-                        kl, ku = bandwidths(J, position)
-                        narrow = is_narrow(n, kl, ku)
-                        band[0], band[1] = (kl, ku) if narrow else (-1, -1)
+                        reach[0], reach[1] = bandwidths(J, position)
+                        narrow = is_narrow(n, reach[0], reach[1])
+                        band[0], band[1] = (reach[0], reach[1]) if narrow else (-1, -1)
+                    rho = rodas.spectral_radius(J, power_vector, w1, w2, order, position,
+                                                reach)
+                    need_jacobian = False
                 err = rodas.attempt(rhs, t, y, f0, h, t_new, p, atol, rtol, J, dfdt,
                                     autonomous, W, pivots, K, y_stage, w1, y_new, f_new,
                                     band, order, w2)

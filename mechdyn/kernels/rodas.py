@@ -204,11 +204,12 @@ def dense_output(y, y_new, ks, poly):
 
 
 @njit
-def spectral_radius(J, v, w, u):
+def spectral_radius(J, v, w, u, order, position, reach):
     """Estimate of J's spectral radius by two steps of power iteration from ``v``,
     sqrt(|J J v| / |v|) (exact for a dominant real pair +-lambda or complex pair +-i w,
     the oscillators of mechanics); ``v`` is replaced by the normalised J J v so that the
-    estimate sharpens from step to step."""
+    estimate sharpens from step to step. ``reach`` = (kl, ku): J's non-zeros lie within
+    that band of the states' ``order`` (``position`` its inverse); kl < 0: anywhere."""
     n = v.shape[0]
     norm_v = 0.0
     for i in range(n):
@@ -217,8 +218,8 @@ def spectral_radius(J, v, w, u):
         for i in range(n):
             v[i] = 1.0 + i
             norm_v += v[i] * v[i]
-    _matvec(J, v, w)
-    _matvec(J, w, u)
+    _matvec(J, v, w, order, position, reach[0], reach[1])
+    _matvec(J, w, u, order, position, reach[0], reach[1])
     norm_u = 0.0
     for i in range(n):
         norm_u += u[i] * u[i]
@@ -233,10 +234,15 @@ def spectral_radius(J, v, w, u):
 
 
 @njit(inline="always")
-def _matvec(J, x, out):
+def _matvec(J, x, out, order, position, kl, ku):
     n = x.shape[0]
     for i in range(n):
         total = 0.0
-        for j in range(n):
-            total += J[i, j] * x[j]
+        if kl < 0:
+            for j in range(n):
+                total += J[i, j] * x[j]
+        else:
+            place = position[i]
+            for k in range(max(0, place - kl), min(n, place + ku + 1)):
+                total += J[i, order[k]] * x[order[k]]
         out[i] = total
