@@ -106,8 +106,10 @@ def mechdyn_row(parents, declared_order, repeats):
         result = mech.simulate(scene, values)
         elapsed = time.perf_counter() - start
         warm = elapsed if warm is None else min(warm, elapsed)
-    end = np.array([result[name][-1] for name in names] +
-                   [result[f"{name}dot"][-1] for name in names])
+    n, states = len(names), result.state_names            # speeds follow the positions
+    rows = [states.index(name) for name in names]
+    end = np.array([result[states[i]][-1] for i in rows] +
+                   [result[states[n + i]][-1] for i in rows])
     return {"first": first, "warm": warm, "nfev": result.stats["nfev"],
             "methods": result.stats.get("methods"), "end": end}
 

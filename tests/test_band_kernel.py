@@ -162,6 +162,38 @@ def test_a_stiff_chain_declared_in_shuffled_order_runs_to_the_hand_written_motio
     reference = solve_ivp(by_hand, (0.0, 0.2), np.zeros(2 * n), method="DOP853", rtol=1e-12,
                           atol=1e-14).y[:, -1]
     end = np.array([result[name][-1] for name in names])
+    states = result.state_names                         # the speeds follow the positions
+    speeds = np.array([result[states[n + states.index(name)]][-1] for name in names])
     assert set(result.stats["backends"]) == {"compiled"}
     assert np.max(np.abs(end - reference[:n])) <= 1e-6 * max(1.0, np.max(np.abs(reference[:n])))
     assert math.isclose(end[0], reference[0], rel_tol=1e-6)
+    assert np.max(np.abs(speeds - reference[n:])) <= 1e-6 * np.max(np.abs(reference[n:]))
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_the_reduced_second_order_solve_equals_numpy_on_the_whole_matrix(seed):
+    """J = [[0, I], [A, B]] with A and B sparse (a random graph of springs and dampers,
+    numbered at random) and c from small to large: plan/factor/solve of
+    mechdyn.kernels.iteration against numpy's dense solve of c I - J."""
+    from mechdyn.kernels import iteration
+    rng = np.random.default_rng(seed)
+    m = int(rng.integers(8, 40))
+    n = 2 * m
+    J = np.zeros((n, n))
+    J[range(m), range(m, n)] = 1.0
+    for _ in range(2 * m):
+        i, j = rng.integers(0, m, 2)
+        J[m + i, j] += rng.normal() * 10.0 ** rng.integers(0, 6)
+        J[m + i, m + j] += rng.normal() * 10.0 ** rng.integers(-2, 2)
+    c = float(rng.choice([1e-2, 1.0, 1e3, 1e6]))
+    plan, order, position = (np.zeros(3, np.int64), np.zeros(n, np.int64),
+                             np.zeros(n, np.int64))
+    iteration.plan(J, plan, order, position, np.zeros(n, np.int64), np.zeros((m, m)), False)
+    assert plan[0] == 1
+    W, core, pivots = np.zeros((n, n)), np.zeros((m, m)), np.zeros(n, np.int64)
+    whole = c * np.eye(n) - J
+    b = rng.normal(size=n)
+    expected = np.linalg.solve(whole, b)
+    assert iteration.factor(J, c, plan, order, W, core, pivots)
+    iteration.solve(J, c, plan, order, position, W, pivots, b, np.zeros(n))
+    assert np.max(np.abs(b - expected)) <= 1e-8 * np.linalg.cond(whole) * np.max(np.abs(expected))

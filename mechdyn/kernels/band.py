@@ -33,7 +33,7 @@ True
 from numba import njit
 
 __all__ = ["BAND_MIN", "band_factor", "band_solve", "bandwidths", "fill_band", "is_narrow",
-           "order_states"]
+           "is_second_order", "order_states"]
 
 BAND_MIN = 16        #: states from which a Jacobian is renumbered and its band measured
 
@@ -176,3 +176,18 @@ def band_solve(ab, kl, ku, piv, b):
         for j in range(i + 1, min(n - 1, i + upper) + 1):
             total -= ab[i, kl + j - i] * b[j]
         b[i] = total / ab[i, kl]
+
+
+@njit(inline="always")
+def is_second_order(J):
+    """Whether ``J`` is ``[[0, I], [A, B]]`` exactly (the first half of the states are
+    positions whose derivatives are the second half, the speeds)."""
+    n = J.shape[0]
+    if n % 2:
+        return False
+    m = n // 2
+    for i in range(m):
+        for j in range(n):
+            if J[i, j] != (1.0 if j == m + i else 0.0):
+                return False
+    return True

@@ -23,8 +23,8 @@ import math
 import numpy as np
 from numba import njit
 
-from .band import band_factor, band_solve, fill_band
-from .linalg import lu_factor, lu_solve, stage_sum
+from .iteration import factor, matvec, solve
+from .linalg import stage_sum
 
 GAMMA = 0.21193756319429014
 A = np.zeros((8, 8))
@@ -108,10 +108,11 @@ def time_derivative(rhs, t, y, f0, p, dfdt):
 
 @njit
 def attempt(rhs, t, y, f0, h, t_new, p, atol, rtol, J, dfdt, autonomous, W, pivots, ks,
-            y_stage, f_stage, y_new, f_new, band, order, b_work):
+            y_stage, f_stage, y_new, f_new, plan, order, position, T, b_work):
     """Try a step of size ``h`` to ``t_new``: fills ks, y_new and f_new = f(t_new, y_new).
-    ``band`` = (kl, ku): the iteration matrix is factored as a band in the states'
-    ``order`` (:mod:`mechdyn.kernels.band`, ``b_work`` its work vector); kl < 0: dense.
+    The iteration matrix is factored and solved as ``plan`` says
+    (:mod:`mechdyn.kernels.iteration`; ``order``, ``position``, ``T`` and ``b_work``
+    its renumbering and work space).
 
     Returns the error norm: inf if something is not finite, NaN if the iteration matrix
     is singular (the caller halves the step).
@@ -119,19 +120,8 @@ def attempt(rhs, t, y, f0, h, t_new, p, atol, rtol, J, dfdt, autonomous, W, pivo
     n = y.shape[0]
     inverse_h = 1.0 / h
     inverse_hg = inverse_h / GAMMA
-    kl, ku = band[0], band[1]
-    ab = W[:, :2 * kl + ku + 1] if kl >= 0 else W[:, :0]
-    if kl >= 0:
-        fill_band(J, order, inverse_hg, ab, kl, ku)
-        if not band_factor(ab, kl, ku, pivots):
-            return math.nan
-    else:
-        for i in range(n):
-            for j in range(n):
-                W[i, j] = -J[i, j]
-            W[i, i] += inverse_hg
-        if not lu_factor(W, pivots):
-            return math.nan
+    if not factor(J, inverse_hg, plan, order, W, T, pivots):
+        return math.nan
     for s in range(8):
         if s == 0:
             for i in range(n):
@@ -147,14 +137,7 @@ def attempt(rhs, t, y, f0, h, t_new, p, atol, rtol, J, dfdt, autonomous, W, pivo
             for j in range(s):
                 total += C[s, j] * inverse_h * ks[j, i]
             ks[s, i] = total
-        if kl >= 0:
-            for i in range(n):
-                b_work[i] = ks[s, order[i]]
-            band_solve(ab, kl, ku, pivots, b_work)
-            for i in range(n):
-                ks[s, order[i]] = b_work[i]
-        else:
-            lu_solve(W, pivots, ks[s])
+        solve(J, inverse_hg, plan, order, position, W, pivots, ks[s], b_work)
     for i in range(n):
         y_new[i] = y_stage[i] + ks[7, i]
     rhs(t_new, y_new, p, f_new)
@@ -204,12 +187,12 @@ def dense_output(y, y_new, ks, poly):
 
 
 @njit
-def spectral_radius(J, v, w, u, order, position, reach):
+def spectral_radius(J, v, w, u, plan, order, position):
     """Estimate of J's spectral radius by two steps of power iteration from ``v``,
     sqrt(|J J v| / |v|) (exact for a dominant real pair +-lambda or complex pair +-i w,
     the oscillators of mechanics); ``v`` is replaced by the normalised J J v so that the
-    estimate sharpens from step to step. ``reach`` = (kl, ku): J's non-zeros lie within
-    that band of the states' ``order`` (``position`` its inverse); kl < 0: anywhere."""
+    estimate sharpens from step to step. The products use the structure ``plan`` found
+    (:func:`mechdyn.kernels.iteration.matvec`)."""
     n = v.shape[0]
     norm_v = 0.0
     for i in range(n):
@@ -218,8 +201,8 @@ def spectral_radius(J, v, w, u, order, position, reach):
         for i in range(n):
             v[i] = 1.0 + i
             norm_v += v[i] * v[i]
-    _matvec(J, v, w, order, position, reach[0], reach[1])
-    _matvec(J, w, u, order, position, reach[0], reach[1])
+    matvec(J, v, w, plan, order, position)
+    matvec(J, w, u, plan, order, position)
     norm_u = 0.0
     for i in range(n):
         norm_u += u[i] * u[i]
@@ -231,18 +214,3 @@ def spectral_radius(J, v, w, u, order, position, reach):
     for i in range(n):
         v[i] = u[i] * scale
     return math.sqrt(math.sqrt(norm_u / norm_v))
-
-
-@njit(inline="always")
-def _matvec(J, x, out, order, position, kl, ku):
-    n = x.shape[0]
-    for i in range(n):
-        total = 0.0
-        if kl < 0:
-            for j in range(n):
-                total += J[i, j] * x[j]
-        else:
-            place = position[i]
-            for k in range(max(0, place - kl), min(n, place + ku + 1)):
-                total += J[i, order[k]] * x[order[k]]
-        out[i] = total
