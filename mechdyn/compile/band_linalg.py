@@ -60,23 +60,26 @@ def band_solve_rows(m, bw, out, first):
     """Solve ``L L' X = B`` in place for ``B = out[first:first + n, :]`` (every column),
     a row of ``B`` at a time (contiguous: the columns are updated together)."""
     n = m.shape[0]
-    columns = out.shape[1]
     for i in range(n):
         for k in range(max(0, i - bw), i):
-            factor = m[i, i - k]
-            for c in range(columns):
-                out[first + i, c] -= factor * out[first + k, c]
-        pivot = m[i, 0]
-        for c in range(columns):
-            out[first + i, c] /= pivot
+            _subtract_row(out, first + i, first + k, m[i, i - k])
+        _divide_row(out, first + i, m[i, 0])
     for i in range(n - 1, -1, -1):
         for k in range(i + 1, min(n, i + bw + 1)):
-            factor = m[k, k - i]
-            for c in range(columns):
-                out[first + i, c] -= factor * out[first + k, c]
-        pivot = m[i, 0]
-        for c in range(columns):
-            out[first + i, c] /= pivot
+            _subtract_row(out, first + i, first + k, m[k, k - i])
+        _divide_row(out, first + i, m[i, 0])
+
+
+@njit(inline="always")
+def _subtract_row(out, target, source, factor):
+    for c in range(out.shape[1]):
+        out[target, c] -= factor * out[source, c]
+
+
+@njit(inline="always")
+def _divide_row(out, row, pivot):
+    for c in range(out.shape[1]):
+        out[row, c] /= pivot
 
 
 @njit(cache=CACHED)
