@@ -126,10 +126,38 @@ def test_rodas_spectral_radius_of_an_oscillator_and_of_a_zero_matrix():
     # J = [[0, 1], [-w^2, 0]]: J J = -w^2 I, so the estimate is w exactly
     w = 40.0
     v, work1, work2 = np.zeros(2), np.zeros(2), np.zeros(2)
+    order, dense = np.arange(2), np.array([0, -1, -1])
     assert rodas.spectral_radius(np.array([[0.0, 1.0], [-w * w, 0.0]]), v, work1,
-                                 work2) == pytest.approx(w, rel=1e-14)
-    assert rodas.spectral_radius(np.zeros((2, 2)), v, work1, work2) == 0.0
+                                 work2, dense, order, order) == pytest.approx(w, rel=1e-14)
+    assert rodas.spectral_radius(np.zeros((2, 2)), v, work1, work2, dense, order,
+                                 order) == 0.0
     assert not v.any()                        # and the start vector is taken afresh
+
+
+@pytest.mark.parametrize("coupled", [False, True])
+def test_rodas_spectral_radius_with_the_structure_found_equals_the_dense_products(coupled):
+    """Twenty oscillators w_i = 10 + i (coupled: also by springs to their neighbours),
+    numbered [q..., u...]: the structure found (second order, reduced to a band) gives
+    the estimate of the dense products."""
+    from mechdyn.kernels import iteration
+    n = 20
+    J = np.zeros((2 * n, 2 * n))
+    for i in range(n):
+        J[i, n + i], J[n + i, i] = 1.0, -(10.0 + i) ** 2
+        if coupled and i + 1 < n:
+            J[n + i, i + 1] = J[n + i + 1, i] = 3.0
+    plan, order, position = (np.zeros(3, np.int64), np.zeros(2 * n, np.int64),
+                             np.zeros(2 * n, np.int64))
+    iteration.plan(J, plan, order, position, np.zeros(2 * n, np.int64), np.zeros((n, n)),
+                   False)
+    assert plan.tolist() == [1, int(coupled), int(coupled)]
+    estimates = []
+    for plan_ in (np.array([0, -1, -1]), plan):
+        v = np.ones(2 * n)
+        estimates.append(rodas.spectral_radius(J, v, np.zeros(2 * n), np.zeros(2 * n),
+                                               plan_, order, position))
+    assert estimates[1] == pytest.approx(estimates[0], rel=1e-14)
+    assert 10.0 < estimates[0] <= 40.0
 
 
 # ------------------------------------------------------------------------- events

@@ -57,19 +57,29 @@ def band_solve(m, bw, b):
 
 @njit(cache=CACHED, error_model="numpy")
 def band_solve_rows(m, bw, out, first):
-    """Solve ``L L' X = B`` in place for ``B = out[first:first + n, :]`` (every column)."""
+    """Solve ``L L' X = B`` in place for ``B = out[first:first + n, :]`` (every column),
+    a row of ``B`` at a time (contiguous: the columns are updated together)."""
     n = m.shape[0]
+    for i in range(n):
+        for k in range(max(0, i - bw), i):
+            _subtract_row(out, first + i, first + k, m[i, i - k])
+        _divide_row(out, first + i, m[i, 0])
+    for i in range(n - 1, -1, -1):
+        for k in range(i + 1, min(n, i + bw + 1)):
+            _subtract_row(out, first + i, first + k, m[k, k - i])
+        _divide_row(out, first + i, m[i, 0])
+
+
+@njit(inline="always")
+def _subtract_row(out, target, source, factor):
     for c in range(out.shape[1]):
-        for i in range(n):
-            total = out[first + i, c]
-            for k in range(max(0, i - bw), i):
-                total -= m[i, i - k] * out[first + k, c]
-            out[first + i, c] = total / m[i, 0]
-        for i in range(n - 1, -1, -1):
-            total = out[first + i, c]
-            for k in range(i + 1, min(n, i + bw + 1)):
-                total -= m[k, k - i] * out[first + k, c]
-            out[first + i, c] = total / m[i, 0]
+        out[target, c] -= factor * out[source, c]
+
+
+@njit(inline="always")
+def _divide_row(out, row, pivot):
+    for c in range(out.shape[1]):
+        out[row, c] /= pivot
 
 
 @njit(cache=CACHED)

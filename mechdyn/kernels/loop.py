@@ -17,7 +17,7 @@ from numba import njit, types
 
 from ..numba_cache import CACHED
 from ..progress import announce
-from . import dop853, rodas
+from . import dop853, iteration, rodas
 from .events import locate
 from .functions import as_jac, as_rhs
 from .layout import (CHUNK_FULL, DEGREE, DOP853, ERR_ACCEPTED, EVENT, EVENTS_VALID,
@@ -135,6 +135,11 @@ def _compile(fingerprint):
         J = np.zeros((n, n))
         W = np.zeros((n, n))
         pivots = np.zeros(n, np.int64)
+        order, position, degree = (np.zeros(n, np.int64), np.zeros(n, np.int64),
+                                   np.zeros(n, np.int64))
+        plan = np.full(3, -1, np.int64)       # how the iteration matrix is factored
+        core = np.zeros((n // 2, n // 2))     # the reduced matrix (second-order models)
+        ordered = False
         g_old, g_new, g_mid, g_work = np.zeros(m), np.zeros(m), np.zeros(m), np.zeros(m)
         memory = np.zeros(m, np.int64)
 
@@ -211,10 +216,14 @@ def _compile(fingerprint):
                     if not autonomous:
                         rodas.time_derivative(rhs, t, y, f0, p, dfdt)
                         counts[NFEV] += 1
-                    rho = rodas.spectral_radius(J, power_vector, w1, w2)
+                    ordered = iteration.plan(J, plan, order, position, degree, core,
+                                             ordered)
+                    rho = rodas.spectral_radius(J, power_vector, w1, w2, plan, order,
+                                                position)
                     need_jacobian = False
                 err = rodas.attempt(rhs, t, y, f0, h, t_new, p, atol, rtol, J, dfdt,
-                                    autonomous, W, pivots, K, y_stage, w1, y_new, f_new)
+                                    autonomous, W, pivots, K, y_stage, w1, y_new, f_new,
+                                    plan, order, position, core, w2)
                 counts[NLU] += 1
                 if not math.isnan(err):
                     counts[NFEV] += 8
@@ -311,8 +320,8 @@ def _compile(fingerprint):
     return integrate
 
 
-COMPILED_MODULES = ("dop853", "dop853_tableau", "events", "functions", "layout", "linalg",
-                    "loop", "rodas")
+COMPILED_MODULES = ("band", "dop853", "dop853_tableau", "events", "functions",
+                    "iteration", "layout", "linalg", "loop", "rodas")
 
 
 def _fingerprint():

@@ -23,7 +23,8 @@ import math
 import numpy as np
 from numba import njit
 
-from .linalg import lu_factor, lu_solve, stage_sum
+from .iteration import factor, matvec, solve
+from .linalg import stage_sum
 
 GAMMA = 0.21193756319429014
 A = np.zeros((8, 8))
@@ -107,8 +108,11 @@ def time_derivative(rhs, t, y, f0, p, dfdt):
 
 @njit
 def attempt(rhs, t, y, f0, h, t_new, p, atol, rtol, J, dfdt, autonomous, W, pivots, ks,
-            y_stage, f_stage, y_new, f_new):
+            y_stage, f_stage, y_new, f_new, plan, order, position, T, b_work):
     """Try a step of size ``h`` to ``t_new``: fills ks, y_new and f_new = f(t_new, y_new).
+    The iteration matrix is factored and solved as ``plan`` says
+    (:mod:`mechdyn.kernels.iteration`; ``order``, ``position``, ``T`` and ``b_work``
+    its renumbering and work space).
 
     Returns the error norm: inf if something is not finite, NaN if the iteration matrix
     is singular (the caller halves the step).
@@ -116,11 +120,7 @@ def attempt(rhs, t, y, f0, h, t_new, p, atol, rtol, J, dfdt, autonomous, W, pivo
     n = y.shape[0]
     inverse_h = 1.0 / h
     inverse_hg = inverse_h / GAMMA
-    for i in range(n):
-        for j in range(n):
-            W[i, j] = -J[i, j]
-        W[i, i] += inverse_hg
-    if not lu_factor(W, pivots):
+    if not factor(J, inverse_hg, plan, order, W, T, pivots):
         return math.nan
     for s in range(8):
         if s == 0:
@@ -137,7 +137,7 @@ def attempt(rhs, t, y, f0, h, t_new, p, atol, rtol, J, dfdt, autonomous, W, pivo
             for j in range(s):
                 total += C[s, j] * inverse_h * ks[j, i]
             ks[s, i] = total
-        lu_solve(W, pivots, ks[s])
+        solve(J, inverse_hg, plan, order, position, W, pivots, ks[s], b_work)
     for i in range(n):
         y_new[i] = y_stage[i] + ks[7, i]
     rhs(t_new, y_new, p, f_new)
@@ -187,11 +187,12 @@ def dense_output(y, y_new, ks, poly):
 
 
 @njit
-def spectral_radius(J, v, w, u):
+def spectral_radius(J, v, w, u, plan, order, position):
     """Estimate of J's spectral radius by two steps of power iteration from ``v``,
     sqrt(|J J v| / |v|) (exact for a dominant real pair +-lambda or complex pair +-i w,
     the oscillators of mechanics); ``v`` is replaced by the normalised J J v so that the
-    estimate sharpens from step to step."""
+    estimate sharpens from step to step. The products use the structure ``plan`` found
+    (:func:`mechdyn.kernels.iteration.matvec`)."""
     n = v.shape[0]
     norm_v = 0.0
     for i in range(n):
@@ -200,8 +201,8 @@ def spectral_radius(J, v, w, u):
         for i in range(n):
             v[i] = 1.0 + i
             norm_v += v[i] * v[i]
-    _matvec(J, v, w)
-    _matvec(J, w, u)
+    matvec(J, v, w, plan, order, position)
+    matvec(J, w, u, plan, order, position)
     norm_u = 0.0
     for i in range(n):
         norm_u += u[i] * u[i]
@@ -213,13 +214,3 @@ def spectral_radius(J, v, w, u):
     for i in range(n):
         v[i] = u[i] * scale
     return math.sqrt(math.sqrt(norm_u / norm_v))
-
-
-@njit(inline="always")
-def _matvec(J, x, out):
-    n = x.shape[0]
-    for i in range(n):
-        total = 0.0
-        for j in range(n):
-            total += J[i, j] * x[j]
-        out[i] = total
