@@ -289,3 +289,18 @@ def test_loom_torsion_is_of_the_reported_magnitude():
     torsion = res[phi_2][settled]
     assert 0.003 < np.max(np.abs(torsion)) < 0.0045
     np.testing.assert_allclose(res["crankshaft"], value(loom, "k_t") * res[phi_2], rtol=1e-12)
+
+
+def test_three_equal_discs_have_one_rigid_mode_and_the_textbook_frequencies():
+    """Three discs J on two shafts k, free: omega^2 = 0, k/J, 3 k/J (the eigenvalues of
+    [[1, -1, 0], [-1, 2, -1], [0, -1, 1]] k/J are 0, 1 and 3)."""
+    a, b, c = md.coordinates("a b c")
+    mech = md.Mechanism("three discs", [a, b, c])
+    for name, angle in (("A", a), ("B", b), ("C", c)):
+        mech.link(name, J=2.0, angle=angle)
+    mech.spring("shaft AB", 50.0, stretch=b - a)
+    mech.spring("shaft BC", 50.0, stretch=c - b)
+    modes = md.natural_frequencies(mech)
+    assert modes.rigid_body_modes == 1
+    assert modes.omega[0] == 0
+    np.testing.assert_allclose(modes.omega[1:], [5.0, 5.0 * math.sqrt(3.0)], rtol=1e-12)

@@ -88,3 +88,9 @@ def test_defaults_are_no_stages_no_bearings_lossless_and_ratio_one():
     assert red.moment(800.0, 8, overhauling=True) == pytest.approx(100.0)
     assert red.drum_force(1000.0, 0.5, 10) == pytest.approx(50.0)    # 1000 * 0.5 / 10
     assert red.mesh_stiffness(1e8, 0.05) == pytest.approx(2.5e5)     # 1e8 * 0.05^2, i = 1
+
+
+def test_series_of_no_stiffness_is_a_named_error_and_of_some_the_textbook_sum():
+    with pytest.raises(red.ReductionError, match="at least one stiffness"):
+        red.series()
+    assert red.series(100.0, 100.0, 50.0) == pytest.approx(25.0, rel=1e-15)  # 1/c = sum 1/c_k

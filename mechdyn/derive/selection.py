@@ -27,7 +27,7 @@ __all__ = ["Selection", "select"]
 @dataclass(frozen=True)
 class Selection:
     """A scene's part of a mechanism: ``names`` of the loads it includes, its ``rigid``
-    springs (together the ``key`` its equations are derived under), ``elements`` (name
+    springs (together what its equations are derived under), ``elements`` (name
     -> element: the links, loops and joints and those loads, in declaration order),
     ``loops`` (loop name -> the labels of its scalar constraints), the scene's name,
     ``outputs`` (``(label, item)``) and stop conditions ``until`` (none without a scene)."""
@@ -38,10 +38,6 @@ class Selection:
     scene_name: str | None = None
     outputs: tuple = ()
     until: tuple = ()
-
-    @property
-    def key(self) -> tuple:
-        return self.names, self.rigid
 
 
 def select(mechanism, scene=None) -> Selection:
