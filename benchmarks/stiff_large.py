@@ -95,17 +95,20 @@ def reference(parents):
                      rtol=1e-13, atol=1e-14).y[:, -1]
 
 
-def mechdyn_row(parents, declared_order, repeats):
-    mech, scene, values, names = mechanism(parents, declared_order)
-    start = time.perf_counter()
-    result = mech.simulate(scene, values)
-    first = time.perf_counter() - start
-    warm = None
+def best_of(run, repeats):
+    """The shortest of ``repeats`` calls of ``run`` and the last call's value."""
+    best, value = float("inf"), None
     for _ in range(repeats):
         start = time.perf_counter()
-        result = mech.simulate(scene, values)
-        elapsed = time.perf_counter() - start
-        warm = elapsed if warm is None else min(warm, elapsed)
+        value = run()
+        best = min(best, time.perf_counter() - start)
+    return best, value
+
+
+def mechdyn_row(parents, declared_order, repeats):
+    mech, scene, values, names = mechanism(parents, declared_order)
+    first, _ = best_of(lambda: mech.simulate(scene, values), 1)
+    warm, result = best_of(lambda: mech.simulate(scene, values), repeats)
     n, states = len(names), result.state_names            # speeds follow the positions
     rows = [states.index(name) for name in names]
     end = np.array([result[states[i]][-1] for i in rows] +
@@ -115,8 +118,10 @@ def mechdyn_row(parents, declared_order, repeats):
 
 
 def casadi_row(parents, repeats):
-    """CasADi's cvodes (BDF, its defaults) on the chain or tree written by hand."""
+    """CasADi's cvodes (BDF, its defaults) on the chain or tree written by hand, set up
+    as benchmarks/peers.py's chain (``peer_models._casadi_run``)."""
     import casadi as ca
+    import peer_models
     n = len(parents)
     q, u = ca.SX.sym("q", n), ca.SX.sym("u", n)
     moments = [0] * n
@@ -130,17 +135,11 @@ def casadi_row(parents, repeats):
         moments[i] -= LOAD * u[i]
     inertia = inertias(n)
     ode = ca.vertcat(u, ca.vertcat(*[moments[i] / inertia[i] for i in range(n)]))
-    integrate = ca.integrator("F", "cvodes", {"x": ca.vertcat(q, u), "ode": ode}, 0.0, T_END,
-                              {"reltol": RTOL, "abstol": ATOL, "max_num_steps": 10 ** 6})
-    warm = end = None
-    for _ in range(repeats + 1):                   # the first call sets cvodes up
-        start = time.perf_counter()
-        end = np.asarray(integrate(x0=np.zeros(2 * n))["xf"]).ravel()
-        elapsed = time.perf_counter() - start
-        warm = elapsed if warm is None else min(warm, elapsed)
-    stats = integrate.stats()
-    return {"first": None, "warm": warm, "nfev": stats.get("nfevals"), "methods": None,
-            "end": end}
+    _, run = peer_models._casadi_run(ca.vertcat(q, u), ca.SX.sym("p", 0), ode, [], T_END,
+                                     RTOL, ATOL)
+    run()                                          # the first call sets cvodes up
+    warm, (end, nfev) = best_of(run, repeats)
+    return {"first": None, "warm": warm, "nfev": nfev, "methods": None, "end": end}
 
 
 def line(name, row, exact):

@@ -11,7 +11,7 @@ import sympy as sp
 from scipy.integrate import solve_ivp
 
 import mechdyn as md
-from mechdyn.kernels.band import (band_factor, band_solve, bandwidths, fill_band, is_narrow,
+from mechdyn.kernels.band import (band_lu_factor, band_lu_solve, bandwidths, fill_band, is_narrow,
                                   order_states)
 
 
@@ -23,10 +23,10 @@ def banded_solve(J, diagonal, b):
     kl, ku = bandwidths(J, position)
     ab, piv = np.zeros((n, 2 * kl + ku + 1)), np.zeros(n, np.int64)
     fill_band(J, order, diagonal, ab, kl, ku)
-    if not band_factor(ab, kl, ku, piv):
+    if not band_lu_factor(ab, kl, ku, piv):
         return None, (kl, ku)
     x = b[order].copy()
-    band_solve(ab, kl, ku, piv, x)
+    band_lu_solve(ab, kl, ku, piv, x)
     return x[np.argsort(order)], (kl, ku)
 
 

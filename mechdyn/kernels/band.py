@@ -8,14 +8,15 @@ step. Renumbered by the reverse Cuthill-McKee ordering (:func:`order_states`: a
 breadth-first walk of the graph of non-zeros from a node of least degree, each node's
 neighbours by increasing degree, then reversed), the non-zeros of the chain lie within
 three places of the diagonal, and so do those of a tree or a mesh numbered in any order
-up to the width of their widest level. :func:`band_factor` then costs ``n kl (kl + ku)``
+up to the width of their widest level. :func:`band_lu_factor` then costs ``n kl (kl + ku)``
 (LAPACK's ``dgbtf2``, with its storage: row interchanges widen the upper band to
 ``kl + ku``).
 
 The band is measured on every Jacobian (:func:`bandwidths`), not assumed from an
 earlier one, so no non-zero ever lies outside it: the banded factors are those of the
 whole matrix, with the pivots dense partial pivoting would choose for the renumbered
-matrix.
+matrix. (Not :mod:`mechdyn.compile.band_linalg`'s Cholesky: ``c I - J`` is neither
+symmetric nor positive definite.)
 
 >>> import numpy as np
 >>> a = np.array([[4.0, 0.0, 1.0], [0.0, 3.0, 0.0], [2.0, 0.0, 5.0]])
@@ -25,15 +26,15 @@ matrix.
 >>> kl, ku = bandwidths(a, position); (kl, ku)
 (1, 1)
 >>> ab, piv = np.zeros((3, 2 * kl + ku + 1)), np.zeros(3, np.int64)
->>> fill_band(a, order, 10.0, ab, kl, ku); band_factor(ab, kl, ku, piv)   # 10 I - a
+>>> fill_band(a, order, 10.0, ab, kl, ku); band_lu_factor(ab, kl, ku, piv)   # 10 I - a
 True
->>> b = np.array([5.0, 7.0, 3.0])[order]; band_solve(ab, kl, ku, piv, b); b[position].tolist()
+>>> b = np.array([5.0, 7.0, 3.0])[order]; band_lu_solve(ab, kl, ku, piv, b); b[position].tolist()
 [1.0, 1.0, 1.0]
 """
 from numba import njit
 
-__all__ = ["BAND_MIN", "band_factor", "band_solve", "bandwidths", "fill_band", "is_narrow",
-           "is_second_order", "order_states"]
+__all__ = ["BAND_MIN", "band_lu_factor", "band_lu_solve", "bandwidths", "fill_band",
+           "is_narrow", "is_second_order", "order_states"]
 
 BAND_MIN = 16        #: states from which a Jacobian is renumbered and its band measured
 
@@ -126,7 +127,7 @@ def fill_band(J, order, diagonal, ab, kl, ku):
 
 
 @njit(inline="always")
-def band_factor(ab, kl, ku, piv):
+def band_lu_factor(ab, kl, ku, piv):
     """Factor the band matrix of :func:`fill_band` in place as ``P A = L U`` (the
     multipliers of column ``k`` kept in rows ``k+1..k+kl``, LAPACK's order of row
     interchanges). Returns False at a pivot that is zero or not finite."""
@@ -161,8 +162,8 @@ def band_factor(ab, kl, ku, piv):
 
 
 @njit(inline="always")
-def band_solve(ab, kl, ku, piv, b):
-    """Solve ``A x = b`` in place in ``b`` from the factors of :func:`band_factor`."""
+def band_lu_solve(ab, kl, ku, piv, b):
+    """Solve ``A x = b`` in place in ``b`` from the factors of :func:`band_lu_factor`."""
     n = ab.shape[0]
     for k in range(n):
         p = piv[k]

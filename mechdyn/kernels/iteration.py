@@ -30,8 +30,8 @@ A chain of 8 unit discs on unit springs (16 states: reduced to 8, a band of widt
 True
 >>> plan_.tolist()                     # reduced, tridiagonal
 [1, 1, 1]
->>> W, T, piv = np.zeros((n, n)), np.zeros((m, m)), np.zeros(n, np.int64)
->>> factor(J, 2.0, plan_, order, W, T, piv)
+>>> W, core, piv = np.zeros((n, n)), np.zeros((m, m)), np.zeros(n, np.int64)
+>>> factor(J, 2.0, plan_, order, W, core, piv)
 True
 >>> b = (2.0 * np.eye(n) - J) @ np.ones(n)
 >>> solve(J, 2.0, plan_, order, position, W, piv, b, np.zeros(n)); bool(np.allclose(b, 1.0))
@@ -39,7 +39,7 @@ True
 """
 from numba import njit
 
-from .band import (BAND_MIN, band_factor, band_solve, bandwidths, fill_band, is_narrow,
+from .band import (BAND_MIN, band_lu_factor, band_lu_solve, bandwidths, fill_band, is_narrow,
                    is_second_order, order_states)
 from .linalg import lu_factor, lu_solve
 
@@ -47,10 +47,10 @@ __all__ = ["factor", "matvec", "plan", "solve"]
 
 
 @njit(inline="always")
-def plan(J, plan_, order, position, degree, T, ordered):
+def plan(J, plan_, order, position, degree, core, ordered):
     """Choose how ``c I - J`` is factored (module doc) into ``plan_``, renumbering its
     states unless ``ordered`` (a renumbering of the same kind kept from an earlier
-    Jacobian); ``T`` is work space of half J's size. Returns whether a renumbering is
+    Jacobian); ``core`` is work space of half J's size. Returns whether a renumbering is
     now held."""
     n = J.shape[0]
     plan_[1] = plan_[2] = -1
@@ -65,8 +65,8 @@ def plan(J, plan_, order, position, degree, T, ordered):
         m = n // 2
         for i in range(m):
             for j in range(m):
-                T[i, j] = abs(J[m + i, j]) + abs(J[m + i, m + j])
-        pattern = T
+                core[i, j] = abs(J[m + i, j]) + abs(J[m + i, m + j])
+        pattern = core
     size = n // 2 if reduced else n
     if changed or not ordered:
         order_states(pattern[:size, :size], order[:size], position[:size], degree[:size])
@@ -77,26 +77,27 @@ def plan(J, plan_, order, position, degree, T, ordered):
 
 
 @njit(inline="always")
-def factor(J, c, plan_, order, W, T, pivots):
-    """Factor ``c I - J`` (or its reduced form) as ``plan_`` says, into ``W`` (and
-    ``T``); False where a pivot is zero or not finite."""
+def factor(J, c, plan_, order, W, core, pivots):
+    """Factor ``c I - J`` (or its reduced form ``c I - core``, ``core`` filled here with
+    ``B + A / c``) as ``plan_`` says, into ``W``; False where a pivot is zero or not
+    finite."""
     n = J.shape[0]
     reduced, kl, ku = plan_[0] == 1, plan_[1], plan_[2]
-    core = J
+    matrix = J
     size = n
     if reduced:
         size = n // 2
         for i in range(size):
             for j in range(size):
-                T[i, j] = J[size + i, size + j] + J[size + i, j] / c
-        core = T
+                core[i, j] = J[size + i, size + j] + J[size + i, j] / c
+        matrix = core
     if kl >= 0:
         ab = W[:size, :2 * kl + ku + 1]
-        fill_band(core[:size, :size], order, c, ab, kl, ku)
-        return band_factor(ab, kl, ku, pivots)
+        fill_band(matrix[:size, :size], order, c, ab, kl, ku)
+        return band_lu_factor(ab, kl, ku, pivots)
     for i in range(size):
         for j in range(size):
-            W[i, j] = -core[i, j]
+            W[i, j] = -matrix[i, j]
         W[i, i] += c
     return lu_factor(W[:size, :size], pivots)
 
@@ -108,7 +109,7 @@ def _core_solve(plan_, order, W, pivots, x, work):
     if kl >= 0:
         for i in range(size):
             work[i] = x[order[i]]
-        band_solve(W[:size, :2 * kl + ku + 1], kl, ku, pivots, work[:size])
+        band_lu_solve(W[:size, :2 * kl + ku + 1], kl, ku, pivots, work[:size])
         for i in range(size):
             x[order[i]] = work[i]
     else:

@@ -108,11 +108,11 @@ def time_derivative(rhs, t, y, f0, p, dfdt):
 
 @njit
 def attempt(rhs, t, y, f0, h, t_new, p, atol, rtol, J, dfdt, autonomous, W, pivots, ks,
-            y_stage, f_stage, y_new, f_new, plan, order, position, T, b_work):
+            y_stage, f_stage, y_new, f_new, plan, order, position, core, b_work):
     """Try a step of size ``h`` to ``t_new``: fills ks, y_new and f_new = f(t_new, y_new).
     The iteration matrix is factored and solved as ``plan`` says
-    (:mod:`mechdyn.kernels.iteration`; ``order``, ``position``, ``T`` and ``b_work``
-    its renumbering and work space).
+    (:mod:`mechdyn.kernels.iteration`; ``order`` and ``position`` its renumbering,
+    ``core`` and ``b_work`` its work space).
 
     Returns the error norm: inf if something is not finite, NaN if the iteration matrix
     is singular (the caller halves the step).
@@ -120,7 +120,7 @@ def attempt(rhs, t, y, f0, h, t_new, p, atol, rtol, J, dfdt, autonomous, W, pivo
     n = y.shape[0]
     inverse_h = 1.0 / h
     inverse_hg = inverse_h / GAMMA
-    if not factor(J, inverse_hg, plan, order, W, T, pivots):
+    if not factor(J, inverse_hg, plan, order, W, core, pivots):
         return math.nan
     for s in range(8):
         if s == 0:
