@@ -73,6 +73,7 @@ CAP = 60.0                # s of a mutant's tests after which it counts as not k
 CAPPED = 6                # the exit status of a run the probe stopped at the cap
 DECIDED = {"killed", "timeout", "import error", "survived", "capped", "no tests"}
 CAUGHT = {"killed", "timeout", "import error"}
+UNCAUGHT = DECIDED - CAUGHT   # the survivors of the table, rerun by --survivors
 
 
 # ---------------------------------------------------------------- mutation operators
@@ -453,11 +454,13 @@ class ReachMap:
             reached = self.touching(rel) | self.compiled_runs
         return sorted(reached & self.usable, key=lambda i: (self.tests[i][1], i))
 
-    def expected(self, tests: list) -> float:
-        """Seconds the unmutated run of these tests takes (as measured in the map)."""
+    def expected(self, tests: list, cap=math.inf) -> float:
+        """Seconds the unmutated run of these tests takes (as measured in the map); with
+        a ``cap``, the run stopped by it (the cap and the test running when it passes)."""
         files = {self.tests[i][0].split("::")[0] for i in tests}
-        return STARTUP + sum(self.data["collect"].get(f, 0.0) for f in files) + sum(
-            self.tests[i][1] for i in tests)
+        durations = [self.tests[i][1] for i in tests]
+        return STARTUP + sum(self.data["collect"].get(f, 0.0) for f in files) + min(
+            sum(durations), cap + max(durations, default=0.0))
 
 
 MAPPED = ("mechdyn", "tests", "models", "validation", "README.md", "pyproject.toml")
@@ -542,7 +545,7 @@ def merge_parts(parts: Path, seconds: float) -> dict:
     return {"date": date.today().isoformat(), "commit": commit(), "seconds": round(seconds),
             "tests": [[n, tests[n].get("seconds", 0.0), tests[n].get("outcome", "passed")]
                       for n in order],
-            "collect": collect, "compiled": sorted(compiled_files()),
+            "collect": collect,
             "at_import": {rel: sorted(lines) for rel, lines in at_import.items()},
             "calls": {rel: {line: sorted(ids) for line, ids in lines.items()}
                       for rel, lines in calls.items()}}
@@ -585,9 +588,10 @@ class Job:
     mutant: Mutant
     source: str           # the module's source
     tests: list           # node ids, fastest first
-    timeout: float
+    timeout: float        # s: the time box of the (capped) run
     private: bool         # numba compiles the kernels afresh (a mutant of compiled code)
     cap: float = CAP      # s of tests, after which a mutant not killed counts as capped
+    control_timeout: float = None   # the uncapped control's time box (None: ``timeout``)
 
     @property
     def rel(self):
@@ -724,8 +728,8 @@ _CONTROL_LOCKS_LOCK = threading.Lock()
 
 def control(job: Job, result: dict, slot: Path, controls: Path):
     """The unmutated package's run of the mutant's tests up to the one that failed (all
-    of them after a crash or a timeout), with the same time box: None where it passes,
-    else the test that failed or what happened. Kept by the list of tests: kills at the
+    of them after a crash or a timeout), uncapped, in the time box of those tests' whole
+    run: None where it passes, else the test that failed or what happened. Kept by the list of tests: kills at the
     same place are checked once."""
     failed = _node(result["detail"])
     tests = job.tests[:job.tests.index(failed) + 1] if failed in job.tests else job.tests
@@ -736,7 +740,7 @@ def control(job: Job, result: dict, slot: Path, controls: Path):
     with lock:                                 # one run per list of tests, whoever asks
         if not path.is_file():
             plain = Job(job.module, -1, Mutant((1, 0), (1, 0), "", "none"), job.source,
-                        tests, job.timeout, False, math.inf)     # all of them, uncapped
+                        tests, job.control_timeout or job.timeout, False, math.inf)
             outcome = run_mutant(plain, slot)
             path.parent.mkdir(parents=True, exist_ok=True)
             path.write_text(json.dumps({k: outcome[k]
@@ -824,7 +828,7 @@ def table(chosen, wall=None, left_out=()) -> str:
                 count[result["outcome"]] += 1
                 seconds.append(result.get("total_seconds", result["seconds"]))
                 commits.add(result["commit"])
-                if result["outcome"] in ("survived", "capped", "no tests"):
+                if result["outcome"] in UNCAUGHT:
                     survivors.append(f"{module}:{index} ({result['outcome']}, "
                                      f"{result['kind']}) {result['diff']}")
         package = packages.setdefault(module.split("/")[0], dict.fromkeys(total, 0))
@@ -877,17 +881,17 @@ def jobs(chosen, test_map: ReachMap, survivors_only=False, cap=CAP) -> list:
             result = recorded(module, index, source, found[index])
             wanted = result is None or result["outcome"] not in DECIDED
             if survivors_only:
-                wanted = result is not None and result["outcome"] in ("survived", "capped",
-                                                                      "no tests")
+                wanted = result is not None and result["outcome"] in UNCAUGHT
             if not wanted:
                 continue
             mutant = found[index]
             tests = test_map.reaching(rel, mutant.start[0], found_scopes)
             private = rel in test_map.compiled
-            expected = test_map.expected(tests) + (KERNEL_COMPILE if private else 0.0)
+            compile_ = KERNEL_COMPILE if private else 0.0
             queue.append(Job(module, index, mutant, source,
-                             [test_map.tests[i][0] for i in tests], time_box(expected), private,
-                             cap))
+                             [test_map.tests[i][0] for i in tests],
+                             time_box(test_map.expected(tests, cap) + compile_), private, cap,
+                             time_box(test_map.expected(tests) + compile_)))
         queues.append(queue)
     return [job for round_ in _round_robin(queues) for job in round_]
 

@@ -202,3 +202,15 @@ def test_a_run_past_the_cap_stops_between_tests_and_counts_as_not_killed(tmp_pat
     assert outcome == "capped" and detail.startswith("mutation cap: 1 tests passed")
     status, output = run()
     assert status == 0 and "4 passed" in output
+
+
+def test_a_capped_run_is_expected_to_end_after_the_cap_and_the_test_then_running():
+    """The time box of a mutant's run follows the cap: start-up, the files' collection,
+    the cap and the longest test (the one running when the cap passes); uncapped, all."""
+    data = {"tests": [["tests/a.py::t1", 30.0, "passed"], ["tests/a.py::t2", 50.0, "passed"],
+                      ["tests/b.py::t3", 40.0, "passed"]],
+            "calls": {}, "at_import": {}, "collect": {"tests/a.py": 2.0, "tests/b.py": 3.0}}
+    reach = mutation.ReachMap(data)
+    assert reach.expected([0, 1, 2]) == mutation.STARTUP + 5.0 + 120.0
+    assert reach.expected([0, 1, 2], cap=60.0) == mutation.STARTUP + 5.0 + 60.0 + 50.0
+    assert reach.expected([0], cap=60.0) == mutation.STARTUP + 2.0 + 30.0
