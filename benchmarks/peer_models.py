@@ -85,6 +85,16 @@ def pydy_chain(n, values, t_end, rtol, atol):
     return (derive,) + _pydy_run(kane, q, u, constants, p, t_end, rtol, atol)
 
 
+def timed(run, repeats):
+    """The shortest of ``repeats`` calls of ``run`` (wall time) and the last call's value."""
+    best, value = float("inf"), None
+    for _ in range(repeats):
+        started = time.perf_counter()
+        value = run()
+        best = min(best, time.perf_counter() - started)
+    return best, value
+
+
 # ----------------------------------------------------------------------- CasADi
 def _casadi_run(x, p, ode, values, t_end, rtol, atol):
     import casadi as ca

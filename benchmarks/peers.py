@@ -45,21 +45,13 @@ sys.path[:0] = [str(ROOT), str(HERE)]
 import mechdyn as md  # noqa: E402
 import obvious  # noqa: E402
 import peer_models  # noqa: E402
+from peer_models import timed  # noqa: E402
 import scaling  # noqa: E402
 from kernels import rk4_floor  # noqa: E402
 
 T_END = 5.0
 PEERS = {"PyDy Kane + Cython + odeint": "pydy", "CasADi + cvodes": "casadi"}
 CHAIN_KINDS = ("mechdyn", "lagranges", "pydy", "casadi")
-
-
-def timed(run, repeats):
-    best, value = float("inf"), None
-    for _ in range(repeats):
-        started = time.perf_counter()
-        value = run()
-        best = min(best, time.perf_counter() - started)
-    return best, value
 
 
 def row(name, setup, first, warm, nfev, end):

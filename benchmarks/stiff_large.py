@@ -24,9 +24,10 @@ import argparse
 import os
 import random
 import tempfile
-import time
 
 import numpy as np
+
+from peer_models import timed
 
 K, C, DRIVE, LOAD = 1e6, 5.0, 5.0, 0.02
 RTOL, ATOL, T_END = 1e-8, 1e-10, 1.0
@@ -95,20 +96,10 @@ def reference(parents):
                      rtol=1e-13, atol=1e-14).y[:, -1]
 
 
-def best_of(run, repeats):
-    """The shortest of ``repeats`` calls of ``run`` and the last call's value."""
-    best, value = float("inf"), None
-    for _ in range(repeats):
-        start = time.perf_counter()
-        value = run()
-        best = min(best, time.perf_counter() - start)
-    return best, value
-
-
 def mechdyn_row(parents, declared_order, repeats):
     mech, scene, values, names = mechanism(parents, declared_order)
-    first, _ = best_of(lambda: mech.simulate(scene, values), 1)
-    warm, result = best_of(lambda: mech.simulate(scene, values), repeats)
+    first, _ = timed(lambda: mech.simulate(scene, values), 1)
+    warm, result = timed(lambda: mech.simulate(scene, values), repeats)
     n, states = len(names), result.state_names            # speeds follow the positions
     rows = [states.index(name) for name in names]
     end = np.array([result[states[i]][-1] for i in rows] +
@@ -138,7 +129,7 @@ def casadi_row(parents, repeats):
     _, run = peer_models._casadi_run(ca.vertcat(q, u), ca.SX.sym("p", 0), ode, [], T_END,
                                      RTOL, ATOL)
     run()                                          # the first call sets cvodes up
-    warm, (end, nfev) = best_of(run, repeats)
+    warm, (end, nfev) = timed(run, repeats)
     return {"first": None, "warm": warm, "nfev": nfev, "methods": None, "end": end}
 
 
