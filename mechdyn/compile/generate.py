@@ -342,15 +342,18 @@ def _forcing_periods(expressions, states) -> list:
 def _revolving(expressions, coordinates) -> list:
     """The indices of the coordinates the equations repeat in after a turn of 2 pi
     (they enter only through sines and cosines): their size means nothing, and the
-    error control weighs them on the scale of one revolution."""
-    expressions = [sp.sympify(e) for e in expressions]
-    found = []
-    for i, q in enumerate(coordinates):
-        turned = {q: q + 2 * sp.pi}
-        if any(e.has(q) for e in expressions) and \
-                all(e.xreplace(turned) == e for e in expressions):
-            found.append(i)
-    return found
+    error control weighs them on the scale of one revolution. Each coordinate is turned
+    in the entries that hold it only (a chain's coordinate is in a few of its n^2)."""
+    holding = {q: [] for q in coordinates}
+    for expression in expressions:
+        expression = sp.sympify(expression)
+        entries = expression.values() if isinstance(expression, sp.MatrixBase) \
+            else [expression]
+        for entry in entries:
+            for q in entry.free_symbols & holding.keys():
+                holding[q].append(entry)
+    return [i for i, q in enumerate(coordinates) if holding[q]
+            and all(e.xreplace({q: q + 2 * sp.pi}) == e for e in holding[q])]
 
 
 def _of_time_alone(expr) -> bool:

@@ -225,7 +225,7 @@ def _banded_jac_source(source, mass, forcing, q_names, u_names, factor_at=None):
     derivatives only, then ``M^-1`` applied to its lower half by the banded factor."""
     n = len(q_names)
     bw = half_bandwidth(mass)
-    varying = any(e.free_symbols & set(q_names) for e in mass)   # else dM/dq a is zero
+    varying = bool(mass.free_symbols & set(q_names))               # else dM/dq a is zero
     exprs, lines = _banded_lines(mass, forcing if varying else [], bw, factor_at)
     column = {v: k for k, v in enumerate((*q_names, *u_names))}
     body = ["out[:, :] = 0.0", f"for _i in range({n}):", f"    out[_i, {n} + _i] = 1.0"]

@@ -47,9 +47,10 @@ def derive(mechanism, element_names=None, rigid=()) -> Equations:
     def scaled(factor, column):        # factor * column, skipping the zero entries
         return column.applyfunc(lambda entry: factor * entry if entry != 0 else entry)
 
-    kinetic, potential, dissipation = sp.S.Zero, sp.S.Zero, sp.S.Zero
-    for m, J, x, y, angle in link_plain.values():
-        kinetic += m * (rate(x) ** 2 + rate(y) ** 2) / 2 + J * rate(angle) ** 2 / 2
+    # Sums built once from their terms (``+=`` re-sorts the whole sum: N^2 for N links)
+    kinetic = sp.Add(*[m * (rate(x) ** 2 + rate(y) ** 2) / 2 + J * rate(angle) ** 2 / 2
+                       for m, J, x, y, angle in link_plain.values()])
+    potentials, dissipations = [], []
     rheonomic = any(t in e.free_symbols for (_, _, *pos) in link_plain.values() for e in pos)
 
     def moving(expr):                  # gradient, rate and bias of an expression
@@ -66,8 +67,8 @@ def derive(mechanism, element_names=None, rigid=()) -> Equations:
         work = checked_work(elements[name], motion, coords)
         works[name] = work = completed(elements[name], work, q, _diff,
                                        u if _foreign(elements[name]) else ())
-        potential += work.potential
-        dissipation += work.dissipation
+        potentials.append(work.potential)
+        dissipations.append(work.dissipation)
         columns = [scaled(value, gradient(along)) for value, along in work.forces]
         column = columns[0] if len(columns) == 1 else sum(columns, sp.zeros(len(q), 1))
         if work.sliding is not None:
@@ -79,8 +80,9 @@ def derive(mechanism, element_names=None, rigid=()) -> Equations:
                                         side * grad, side * slide, side * bias,
                                         limit.restitution))
         forces[name] = column
-        powers[name] = sp.Add(*[column[i] * u[i] for i in range(len(q)) if column[i] != 0])
+        powers[name] = sp.Add(*[value * u[i] for (i, _), value in column.todok().items()])
 
+    potential, dissipation = sp.Add(*potentials), sp.Add(*dissipations)
     constraints = _constraint_terms(mechanism, to_plain, gradient, rate, q, u)
     gears = []
     for index, constraint in enumerate(constraints):
@@ -156,10 +158,15 @@ def _lagrange(kinetic, q, u):
     n = len(q)
     at_rest = {ui: sp.S.Zero for ui in u}
     momenta = _momenta(kinetic, u)
-    mass = sp.Matrix(n, n, lambda i, j: _diff(momenta[i], u[j]))
+    entries = [[sp.S.Zero] * n for _ in range(n)]       # M_ij: only where p_i holds u_j
+    column = {uj: j for j, uj in enumerate(u)}
+    for i, momentum in enumerate(momenta):
+        for uj in momentum.free_symbols & column.keys():
+            entries[i][column[uj]] = _diff(momentum, uj)
+    mass = sp.Matrix(entries)
     b = [m.xreplace(at_rest) for m in momenta]
     base = kinetic.xreplace(at_rest)
-    entries = mass.tolist()
+    imposed = [j for j in range(n) if b[j] != 0]     # b: imposed motions only
     # Only entries of M that hold q_k have a slope along it (a chain's M holds none).
     slopes = {(i, j, k): _diff(entries[i][j], q[k])
               for i in range(n) for j in range(n) if entries[i][j].free_symbols
@@ -178,7 +185,9 @@ def _lagrange(kinetic, q, u):
             christoffel = (parts[0] + parts[1] - parts[2]) / 2
             terms.append(-christoffel * u[j] * u[k] * (1 if j == k else 2))
         for j in range(n):
-            terms.append(-_diff(entries[i][j], t) * u[j])
+            if entries[i][j] != 0:
+                terms.append(-_diff(entries[i][j], t) * u[j])
+        for j in (range(n) if b[i] != 0 else imposed):
             terms.append((_diff(b[j], q[i]) - _diff(b[i], q[j])) * u[j])
         terms += [-_diff(b[i], t), _diff(base, q[i])]
         inertial[i] = sp.Add(*[term for term in terms if term is not zero])
@@ -247,15 +256,12 @@ _SAMPLES = 20           # draws for the two real samples of the regularity check
 
 def _real_matrix(mass, values):
     """``mass`` at ``values`` as floats, or None where an entry is not finite and real."""
-    n = mass.shape[0]
-    numeric = np.zeros((n, n))
-    for i in range(n):
-        for j in range(n):
-            if mass[i, j] != 0:
-                value = complex(sp.N(mass[i, j].xreplace(values)))
-                if not (np.isfinite(value) and abs(value.imag) <= 1e-12 * abs(value.real)):
-                    return None
-                numeric[i, j] = value.real
+    numeric = np.zeros(mass.shape)
+    for (i, j), entry in mass.todok().items():        # the non-zero entries
+        value = complex(sp.N(entry.xreplace(values)))
+        if not (np.isfinite(value) and abs(value.imag) <= 1e-12 * abs(value.real)):
+            return None
+        numeric[i, j] = value.real
     return numeric
 
 
@@ -312,7 +318,9 @@ class _Frame:
 
     def gradient(self, expr):            # each expression's gradient is taken once
         if expr not in self.gradients:
-            self.gradients[expr] = sp.Matrix([_diff(expr, qi) for qi in self.q])
+            present = expr.free_symbols
+            self.gradients[expr] = sp.Matrix([_diff(expr, qi) if qi in present else sp.S.Zero
+                                              for qi in self.q])
         return self.gradients[expr].copy()
 
 
