@@ -195,8 +195,7 @@ def _jac_source(source, mass, forcing, q_names, u_names, factor_at=None):
 # ------------------------------------------------------- large models: banded, numeric
 def half_bandwidth(mass) -> int:
     """The largest ``|i - j|`` of a structurally non-zero entry of ``mass``."""
-    n = mass.shape[0]
-    return max((i - j for i in range(n) for j in range(i) if mass[i, j] != 0), default=0)
+    return max((i - j for i, j in mass.todok()), default=0)
 
 
 def _banded_lines(mass, forcing, bw, factor_at=None):

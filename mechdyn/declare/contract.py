@@ -98,8 +98,9 @@ def checked_work(element, motion, coordinates) -> Work:
 
 
 def _no_raw_functions(who, what, expr, coordinates):
-    names = {c.func.__name__ for c in coordinates}
-    for function in sorted(expr.atoms(AppliedUndef), key=str):
+    functions = sorted(expr.atoms(AppliedUndef), key=str)
+    names = {c.func.__name__ for c in coordinates} if functions else ()
+    for function in functions:
         name = function.func.__name__
         if function.args != (t,):
             raise DeclarationError(f"{who}: Work.{what} = {expr} holds the undefined "
