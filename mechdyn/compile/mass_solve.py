@@ -70,8 +70,8 @@ def _solve_lines(n, rhs, out, zero):
 
 def _lower_names(mass, names):
     """Names of the lower entries of ``mass`` (``None`` for structural zeros)."""
-    n = mass.shape[0]
-    return {(i, j): (None if mass[i, j] == 0 else next(names))
+    n, nonzero = mass.shape[0], mass.todok()
+    return {(i, j): (next(names) if (i, j) in nonzero else None)
             for i in range(n) for j in range(i + 1)}
 
 
@@ -122,10 +122,9 @@ def _factor_names(n, zero) -> list:
 def is_constant(mass) -> bool:
     """Whether a (renamed) mass matrix with off-diagonal terms depends on the
     parameters ``p0, p1, ...`` alone: it is factored once per parameter vector."""
-    n = mass.shape[0]
-    if not any(mass[i, j] != 0 for i in range(n) for j in range(i)):
+    if not any(i > j for i, j in mass.todok()):
         return False                                   # diagonal: a division, nothing to save
-    return all(re.fullmatch(r"p\d+", s.name) for e in mass for s in e.free_symbols)
+    return all(re.fullmatch(r"p\d+", s.name) for s in mass.free_symbols)
 
 
 def mass_margin_event(mass, state):

@@ -168,9 +168,10 @@ def _lagrange(kinetic, q, u):
     base = kinetic.xreplace(at_rest)
     imposed = [j for j in range(n) if b[j] != 0]     # b: imposed motions only
     # Only entries of M that hold q_k have a slope along it (a chain's M holds none).
-    slopes = {(i, j, k): _diff(entries[i][j], q[k])
-              for i in range(n) for j in range(n) if entries[i][j].free_symbols
-              for k in range(n) if q[k] in entries[i][j].free_symbols}
+    index = {qk: k for k, qk in enumerate(q)}
+    slopes = {(i, j, index[qk]): _diff(entry, qk)
+              for (i, j), entry in mass.todok().items()
+              for qk in entry.free_symbols & index.keys()}
     pairs = [set() for _ in range(n)]     # per i: the (j <= k) with a Christoffel symbol
     for i, j, k in slopes:
         pairs[i].add((min(j, k), max(j, k)))
