@@ -3,6 +3,7 @@ cvodes (BDF, equations written by hand) in the same process, and a tree of discs
 numbered along its branches against the same tree numbered at random.
 
     python benchmarks/stiff_large.py [--sizes 100] [--tree 100] [--repeats 3]
+    python benchmarks/stiff_large.py --sizes 10 30 100 300 1000 --scaling 1e6 1e3
 
 The chain: discs J_i = 0.01 (1 + i mod 3) on shafts k = 1e6 N m/rad with dampers
 c = 5 N m s/rad, a drive of 5 N m on the first disc, a load -0.02 phidot on the last,
@@ -23,6 +24,8 @@ from __future__ import annotations
 import argparse
 import os
 import random
+import subprocess
+import sys
 import tempfile
 
 import numpy as np
@@ -172,16 +175,57 @@ def tree_table(n, repeats, seed=1):
             f"random / along the branches: {scattered['warm'] / along['warm']:.2f}x"]
 
 
+SCALING_HEAD = ["| N | shafts k N m/rad | mechdyn first run s | mechdyn warm s | CasADi warm s | "
+                "mechdyn / CasADi | end error mechdyn | end error CasADi |",
+                "|---|---|---|---|---|---|---|---|"]
+
+
+def scaling_rows(sizes, stiffnesses, repeats):
+    """One row per chain size and shaft stiffness, each in a fresh process with an empty
+    cache (the kernels compiled before): mechdyn's first run (derivation, code
+    generation, numba) and warm run beside CasADi's."""
+    for k in stiffnesses:
+        for n in sizes:
+            if len(sizes) * len(stiffnesses) > 1:
+                empty = {**os.environ, "MECHDYN_CACHE": tempfile.mkdtemp(prefix="mechdyn-")}
+                row = subprocess.run([sys.executable, __file__, "--sizes", str(n),
+                                      "--scaling", str(k), "--repeats", str(repeats)],
+                                     capture_output=True, text=True, check=True, env=empty)
+                print(row.stdout.strip().splitlines()[-1], flush=True)
+            else:
+                print(scaling_row(n, k, repeats), flush=True)
+
+
+def scaling_row(n, k, repeats):
+    global K
+    K = k
+    parents = [None] + list(range(n - 1))
+    exact = reference(parents)
+    ours = mechdyn_row(parents, range(n), repeats)
+    peer = casadi_row(parents, repeats)
+    return (f"| {n} | {k:g} | {ours['first']:.2f} | {ours['warm']:.3f} | "
+            f"{peer['warm']:.3f} | {ours['warm'] / peer['warm']:.2f}x | "
+            f"{np.max(np.abs(ours['end'] - exact)):.1e} | "
+            f"{np.max(np.abs(peer['end'] - exact)):.1e} |")
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--sizes", type=int, nargs="*", default=[100])
     parser.add_argument("--tree", type=int, default=100, help="discs in the tree (0: none)")
     parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--scaling", type=float, nargs="*", metavar="K",
+                        help="instead: the scaling table over --sizes for these shaft "
+                             "stiffnesses (e.g. --scaling 1e6 1e3)")
     args = parser.parse_args(argv)
     os.environ.setdefault("MECHDYN_CACHE", tempfile.mkdtemp(prefix="mechdyn-stiff-"))
     import mechdyn.kernels  # noqa: F401  (the kernels' own numba cache, not timed)
     print(f"load average at the start: {os.getloadavg()[0]:.2f}; mechdyn's cache: "
           f"{os.environ['MECHDYN_CACHE']}")
+    if args.scaling:
+        print("\n".join(SCALING_HEAD), flush=True)
+        scaling_rows(args.sizes, args.scaling, args.repeats)
+        return
     for n in args.sizes:
         print("\n".join(["", *chain_table(n, args.repeats)]), flush=True)
     if args.tree:
