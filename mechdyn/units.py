@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import functools
 import math
+import re
 from fractions import Fraction
 
 import numpy as np
@@ -177,7 +178,8 @@ def _facts_from_pint(terms) -> dict:
         try:
             unit = unit * reg.Unit(name) ** power
         except Exception:           # pint's UndefinedUnitError and parse errors
-            hint = did_you_mean(name, _COMMON) or did_you_mean(name, list(reg))
+            hint = _power_hint(terms, name) or did_you_mean(name, _COMMON) \
+                or did_you_mean(name, list(reg))
             raise UnitError(f"unknown unit {name!r}{hint}") from None
     base = reg.Quantity(1.0, unit).to_base_units()
     if reg.Quantity(0.0, unit).to_base_units().magnitude != 0:
@@ -207,6 +209,20 @@ def _load_disk():
 def _save_disk():
     from mechdyn import cache
     cache.store("units.json", _KNOWN)   # a read-only home only costs pint's import
+
+
+def _power_hint(terms, name) -> str:
+    """A unit glued to its power (``m2`` in ``kg m2``): the whole unit as it is written.
+
+    >>> _power_hint((("kg", 1), ("m2", 1)), "m2")
+    ' (a power is written with ^: kg*m^2)'
+    """
+    glued = re.fullmatch(r"([A-Za-z]+?)(\d+)", name)
+    if glued is None or glued.group(1) not in _COMMON:
+        return ""
+    fixed = [(glued.group(1), int(glued.group(2)) * power) if term == name else (term, power)
+             for term, power in terms]
+    return f" (a power is written with ^: {_text(fixed)})"
 
 
 def _text(terms) -> str:

@@ -49,6 +49,8 @@ def test_pint_quantities_convert():
     ("2 furlongs_per_fortnight", None, "unknown unit"),
     ("1 degC", None, "offset"),
     ("kN", "N", "expected a number before the unit"),
+    ("12 kg m2", "kg*m^2", "a power is written with \\^: kg\\*m\\^2\\)"),
+    ("3 mm3", None, "written with \\^: mm\\^3\\)"),
 ])
 def test_wrong_units_are_named(text, unit, message):
     with pytest.raises(UnitError, match=message):
