@@ -2,7 +2,7 @@
 threading: the slider-crank (issue 24) and the N-disc chain (issue 26).
 
     python benchmarks/peers.py [--repeats 3] [--rtol 1e-8] [--chain 100] [--skip-slider]
-                               [--chain-peers mechdyn lagranges pydy casadi]
+                               [--chain-peers mechdyn lagranges pydy casadi] [--stiff]
 
 Peers: sympy's LagrangesMethod + lambdify + scipy (benchmarks/obvious.py for the
 slider-crank, ``scaling.measure_lagranges_method`` for the chain), PyDy (Kane + Cython
@@ -22,6 +22,8 @@ row (``pip install ".[bench]"``).
    first run, warm run, µs per RHS evaluation (warm run / evaluations, solver
    included), and the end state's largest difference from the numba floor's run
    (``scaling.floor_functions``: the accelerations written by hand, DOP853 kernel).
+   ``--stiff``: the same chain on issue 39's stiff shafts (k = 1e6 N m/rad, c = 5 N m
+   s/rad, J_i = 0.01 (1 + i mod 3), M = 5, b = 0.02); each peer at its defaults.
 """
 from __future__ import annotations
 
@@ -52,6 +54,7 @@ from kernels import rk4_floor  # noqa: E402
 T_END = 5.0
 PEERS = {"PyDy Kane + Cython + odeint": "pydy", "CasADi + cvodes": "casadi"}
 CHAIN_KINDS = ("mechdyn", "lagranges", "pydy", "casadi")
+CAP_SECONDS = 600            # a chain peer's process (derive, first run, warm runs), at most
 
 
 def row(name, setup, first, warm, nfev, end):
@@ -189,9 +192,13 @@ def chain_peer(module, n, repeats):
 
 def chain_in_fresh_process(kind, n, repeats):
     env = dict(os.environ, MECHDYN_CACHE=tempfile.mkdtemp(prefix="mechdyn-peers-"))
-    done = subprocess.run([sys.executable, __file__, "--chain-one", kind, str(n),
-                           "--repeats", str(repeats)], env=env, capture_output=True,
-                          text=True)
+    try:
+        done = subprocess.run([sys.executable, __file__, "--chain-one", kind, str(n),
+                               "--repeats", str(repeats)], env=env, capture_output=True,
+                              text=True, timeout=CAP_SECONDS)
+    except subprocess.TimeoutExpired:
+        return [{"name": f"{kind}: not finished in {CAP_SECONDS} s", "setup": None,
+                 "first": None, "warm": None, "nfev": None, "end": None}]
     if done.returncode:
         return [{"name": f"{kind}: failed ({done.stderr.strip().splitlines()[-1]})",
                  "setup": None, "first": None, "warm": None, "nfev": None, "end": None}]
@@ -241,8 +248,12 @@ def main(argv=None):
     parser.add_argument("--chain-peers", nargs="*", default=list(CHAIN_KINDS),
                         choices=CHAIN_KINDS, help="which chain rows to run (none: skip)")
     parser.add_argument("--skip-slider", action="store_true")
+    parser.add_argument("--stiff", action="store_true",
+                        help="the chain on issue 39's stiff shafts (k = 1e6, c = 5)")
     parser.add_argument("--chain-one", nargs=2, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
+    if args.stiff:                      # read by scaling.chain_values, here and in the
+        os.environ["MECHDYN_BENCH_STIFF"] = "1"       # fresh processes of each peer
     if args.chain_one:
         kind, n = args.chain_one[0], int(args.chain_one[1])
         measure = {"mechdyn": chain_mechdyn, "lagranges": chain_lagranges}.get(

@@ -85,6 +85,12 @@ def chain(n):
 
 
 def chain_values(n):
+    """The chain's values; with ``MECHDYN_BENCH_STIFF=1`` in the environment (``peers.py
+    --stiff``, inherited by its fresh processes) issue 39's stiff chain: shafts of 1e6
+    N m/rad with 5 N m s/rad dampers, J_i = 0.01 (1 + i mod 3), M = 5, b = 0.02."""
+    if os.environ.get("MECHDYN_BENCH_STIFF") == "1":
+        return {"J": [0.01 * (1 + i % 3) for i in range(n)], "k": [1e6] * (n - 1),
+                "c": [5.0] * (n - 1), "M": 5.0, "b": 0.02}
     return {"J": [1.0 + 0.01 * i for i in range(n)], "k": [1000.0] * (n - 1),
             "c": [1.0] * (n - 1), "M": 10.0, "b": 2.0}
 
