@@ -175,6 +175,21 @@ def _plain_all(expr):
 
 
 def _simplest(expr):
+    """``expr`` simplified; a piecewise one branch by branch (fast, and the branch that
+    differs is the one left non-zero), its conditions freed of positive factors first
+    (``g m r_b phidot / i < 0`` is ``phidot < 0``: the derived and the hand-written
+    branches then line up)."""
     if expr == 0 or sp.expand(expr) == 0:
         return sp.S.Zero
+    if expr.has(sp.Piecewise):
+        folded = sp.piecewise_fold(expr.replace(
+            lambda e: isinstance(e, sp.core.relational.Relational) and e.rhs == 0,
+            lambda e: e.func(sp.Mul(*[f for f in sp.Mul.make_args(e.lhs)
+                                      if not f.is_positive]), 0)))
+        if not isinstance(folded, sp.Piecewise):
+            return _simplest(folded) if not folded.has(sp.Piecewise) else sp.simplify(folded)
+        pieces = [(_simplest(branch), condition) for branch, condition in folded.args]
+        if all(branch == 0 for branch, _ in pieces):
+            return sp.S.Zero
+        return sp.Piecewise(*pieces)
     return sp.simplify(expr)

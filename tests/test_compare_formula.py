@@ -81,3 +81,36 @@ def test_mass_matrix_of_two_coordinates_against_a_hand_matrix():
     assert md.same(mech.equations().mass_matrix, hand)
     assert md.difference(mech.equations().mass_matrix, sp.zeros(2)) == \
         sp.Matrix([[J1 + J2, J2], [J2, J2]])
+
+
+def _hoist_by_hand(lifting_factor):
+    """The hoist drive's reduced moment as a textbook writes it (models/hoist_drive.py's
+    docstring): Kloss's motor moment, the weight through the gearbox with 1/eta while
+    the motor lifts (phidot > 0) and eta while the load drives (phidot < 0)."""
+    M_k, s_k, omega_0, g, m, r_b, eta, i_1, i_2 = sp.symbols(
+        "M_k s_k omega_0 g m r_b eta i_1 i_2")
+    w = sp.Symbol("phidot")
+    slip = 1 - w / omega_0
+    motor = 2 * M_k / (slip / s_k + s_k / slip)
+    weight = m * g * r_b / (i_1 * i_2)
+    return motor - weight * sp.Piecewise((eta, w < 0), (lifting_factor(eta), True)), weight
+
+
+def test_a_reduced_moment_with_efficiency_equals_its_textbook_form_branch_by_branch():
+    hoist = md.load_model("models/hoist_drive.py")
+    derived = hoist.mechanism.reduced_moment(hoist.scenes["lift_start_rigid"])
+    formula, _ = _hoist_by_hand(lambda eta: 1 / eta)
+    # the derived branch reads "g m r_b phidot / (i_1 i_2) < 0", the textbook "phidot < 0"
+    assert md.same(derived, formula)
+
+
+def test_the_difference_names_the_branch_that_differs():
+    hoist = md.load_model("models/hoist_drive.py")
+    derived = hoist.mechanism.reduced_moment(hoist.scenes["lift_start_rigid"])
+    formula, weight = _hoist_by_hand(lambda eta: eta)        # eta where 1/eta belongs
+    left = md.difference(derived, formula)
+    assert isinstance(left, sp.Piecewise)
+    (lowering, when_lowering), (lifting, _) = left.args
+    assert lowering == 0 and str(when_lowering) == "phidot < 0"
+    eta = sp.Symbol("eta")
+    assert md.same(lifting, -weight * (1 / eta - eta))
