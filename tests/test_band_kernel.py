@@ -186,11 +186,12 @@ def test_the_reduced_second_order_solve_equals_numpy_on_the_whole_matrix(seed):
         J[m + i, j] += rng.normal() * 10.0 ** rng.integers(0, 6)
         J[m + i, m + j] += rng.normal() * 10.0 ** rng.integers(-2, 2)
     c = float(rng.choice([1e-2, 1.0, 1e3, 1e6]))
-    plan, order, position = (np.zeros(3, np.int64), np.zeros(n, np.int64),
-                             np.zeros(n, np.int64))
-    iteration.plan(J, plan, order, position, np.zeros(n, np.int64), np.zeros((m, m)), False)
-    assert plan[0] == 1
+    plan, order, position = (np.zeros(iteration.plan_size(n), np.int64),
+                             np.zeros(n, np.int64), np.zeros(n, np.int64))
     W, core, pivots = np.zeros((n, n)), np.zeros((m, m)), np.zeros(n, np.int64)
+    iteration.plan(J, plan, order, position, np.zeros(n, np.int64), np.zeros((m, m)), W,
+                   False)
+    assert plan[0] == 1
     whole = c * np.eye(n) - J
     b = rng.normal(size=n)
     expected = np.linalg.solve(whole, b)

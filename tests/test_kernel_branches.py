@@ -146,11 +146,11 @@ def test_rodas_spectral_radius_with_the_structure_found_equals_the_dense_product
         J[i, n + i], J[n + i, i] = 1.0, -(10.0 + i) ** 2
         if coupled and i + 1 < n:
             J[n + i, i + 1] = J[n + i + 1, i] = 3.0
-    plan, order, position = (np.zeros(3, np.int64), np.zeros(2 * n, np.int64),
-                             np.zeros(2 * n, np.int64))
+    plan, order, position = (np.zeros(iteration.plan_size(2 * n), np.int64),
+                             np.zeros(2 * n, np.int64), np.zeros(2 * n, np.int64))
     iteration.plan(J, plan, order, position, np.zeros(2 * n, np.int64), np.zeros((n, n)),
-                   False)
-    assert plan.tolist() == [1, int(coupled), int(coupled)]
+                   np.zeros((2 * n, 2 * n)), False)
+    assert plan[:3].tolist() == [1, int(coupled), int(coupled)]
     estimates = []
     for plan_ in (np.array([0, -1, -1]), plan):
         v = np.ones(2 * n)

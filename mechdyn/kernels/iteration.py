@@ -14,10 +14,15 @@ Small models (below 16 states) keep the dense LU of the whole matrix. Larger one
   the reduced one) is renumbered by :func:`mechdyn.kernels.band.order_states` and factored
   as a band where that is much cheaper (:func:`mechdyn.kernels.band.is_narrow`); the band
   is measured on each Jacobian, so no non-zero lies outside it.
+- **Sparse** where no narrow band exists (a tree, a mesh) and a minimum-degree
+  elimination keeps the fill small (:mod:`mechdyn.kernels.sparse`: no row
+  interchanges, each pivot checked against its column; one that fails the check
+  turns this factorisation dense).
 - Otherwise dense LU with partial pivoting (:mod:`mechdyn.kernels.linalg`).
 
-``plan_`` holds ``[reduced, kl, ku]`` (kl < 0: dense); ``order`` / ``position`` the
-renumbering of the factored matrix's states.
+``plan_`` (:func:`plan_size` entries) holds ``[reduced, kl, ku]`` (kl = -1: dense,
+:data:`~mechdyn.kernels.sparse.SPARSE`: sparse, its structure following); ``order`` /
+``position`` the renumbering of the factored matrix's states.
 
 A chain of 8 unit discs on unit springs (16 states: reduced to 8, a band of width 1):
 
@@ -25,12 +30,14 @@ A chain of 8 unit discs on unit springs (16 states: reduced to 8, a band of widt
 >>> n, m = 16, 8
 >>> J = np.zeros((n, n)); J[range(m), range(m, n)] = 1.0
 >>> J[m:, :m] = np.eye(m, k=1) + np.eye(m, k=-1) - np.diag([1.0] + [2.0] * 6 + [1.0])
->>> plan_, order, position = np.zeros(3, np.int64), np.zeros(n, np.int64), np.zeros(n, np.int64)
->>> plan(J, plan_, order, position, np.zeros(n, np.int64), np.zeros((m, m)), False)
+>>> plan_, order, position = (np.zeros(plan_size(n), np.int64), np.zeros(n, np.int64),
+...                           np.zeros(n, np.int64))
+>>> W = np.zeros((n, n))
+>>> plan(J, plan_, order, position, np.zeros(n, np.int64), np.zeros((m, m)), W, False)
 True
->>> plan_.tolist()                     # reduced, tridiagonal
+>>> plan_[:3].tolist()                 # reduced, tridiagonal
 [1, 1, 1]
->>> W, core, piv = np.zeros((n, n)), np.zeros((m, m)), np.zeros(n, np.int64)
+>>> core, piv = np.zeros((m, m)), np.zeros(n, np.int64)
 >>> factor(J, 2.0, plan_, order, W, core, piv)
 True
 >>> b = (2.0 * np.eye(n) - J) @ np.ones(n)
@@ -42,16 +49,23 @@ from numba import njit
 from .band import (BAND_MIN, band_lu_factor, band_lu_solve, bandwidths, fill_band, is_narrow,
                    is_second_order, order_states)
 from .linalg import lu_factor, lu_solve
+from . import sparse
 
-__all__ = ["factor", "matvec", "plan", "solve"]
+__all__ = ["factor", "matvec", "plan", "plan_size", "solve"]
 
 
 @njit(inline="always")
-def plan(J, plan_, order, position, degree, core, ordered):
+def plan_size(n):
+    """Entries of the ``plan_`` of an ``n``-state Jacobian (a sparse structure's too)."""
+    return 3 + n + 1 + sparse.capacity(n)
+
+
+@njit(inline="always")
+def plan(J, plan_, order, position, degree, core, W, ordered):
     """Choose how ``c I - J`` is factored (module doc) into ``plan_``, renumbering its
     states unless ``ordered`` (a renumbering of the same kind kept from an earlier
-    Jacobian); ``core`` is work space of half J's size. Returns whether a renumbering is
-    now held."""
+    Jacobian); ``core`` is work space of half J's size, ``W`` of its size. Returns
+    whether a renumbering is now held."""
     n = J.shape[0]
     plan_[1] = plan_[2] = -1
     if n < BAND_MIN:                       # small: dense LU of the whole matrix
@@ -71,9 +85,21 @@ def plan(J, plan_, order, position, degree, core, ordered):
     if changed or not ordered:
         order_states(pattern[:size, :size], order[:size], position[:size], degree[:size])
     kl, ku = bandwidths(pattern[:size, :size], position[:size])
-    if is_narrow(size, kl, ku):
+    narrow = is_narrow(size, kl, ku)
+    band_work = size * (kl + 1) * (2 * kl + ku + 1)
+    if narrow and band_work <= 16 * size:  # a chain's few diagonals: nothing does better
         plan_[1], plan_[2] = kl, ku
-    return True
+        return True
+    sparse_work = sparse.symbolic(pattern[:size, :size], plan_, order[:size],
+                                  position[:size], degree[:size], W[:size, :size])
+    if sparse_work >= 0 and not (narrow and band_work <= 2 * sparse_work):
+        plan_[1] = sparse.SPARSE
+        return True
+    if narrow:                  # the band, in a renumbering made afresh
+        order_states(pattern[:size, :size], order[:size], position[:size], degree[:size])
+        plan_[1], plan_[2] = bandwidths(pattern[:size, :size], position[:size])
+        return True
+    return False                # dense; the renumbering was spent: make it afresh next time
 
 
 @njit(inline="always")
@@ -95,6 +121,10 @@ def factor(J, c, plan_, order, W, core, pivots):
         ab = W[:size, :2 * kl + ku + 1]
         fill_band(matrix[:size, :size], order, c, ab, kl, ku)
         return band_lu_factor(ab, kl, ku, pivots)
+    if kl == sparse.SPARSE:
+        if sparse.factor(matrix[:size, :size], c, plan_, order, W):
+            return True
+        plan_[1] = -1            # a pivot the sparse order cannot take: dense, pivoting
     for i in range(size):
         for j in range(size):
             W[i, j] = -matrix[i, j]
@@ -106,7 +136,9 @@ def factor(J, c, plan_, order, W, core, pivots):
 def _core_solve(plan_, order, W, pivots, x, work):
     size = x.shape[0]
     kl, ku = plan_[1], plan_[2]
-    if kl >= 0:
+    if kl == sparse.SPARSE:
+        sparse.solve(plan_, order, W, x, work)
+    elif kl >= 0:
         for i in range(size):
             work[i] = x[order[i]]
         band_lu_solve(W[:size, :2 * kl + ku + 1], kl, ku, pivots, work[:size])

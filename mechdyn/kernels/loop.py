@@ -137,7 +137,7 @@ def _compile(fingerprint):
         pivots = np.zeros(n, np.int64)
         order, position, degree = (np.zeros(n, np.int64), np.zeros(n, np.int64),
                                    np.zeros(n, np.int64))
-        plan = np.full(3, -1, np.int64)       # how the iteration matrix is factored
+        plan = np.full(iteration.plan_size(n), -1, np.int64)   # how W is factored
         core = np.zeros((n // 2, n // 2))     # the reduced matrix (second-order models)
         ordered = False
         g_old, g_new, g_mid, g_work = np.zeros(m), np.zeros(m), np.zeros(m), np.zeros(m)
@@ -216,7 +216,7 @@ def _compile(fingerprint):
                     if not autonomous:
                         rodas.time_derivative(rhs, t, y, f0, p, dfdt)
                         counts[NFEV] += 1
-                    ordered = iteration.plan(J, plan, order, position, degree, core,
+                    ordered = iteration.plan(J, plan, order, position, degree, core, W,
                                              ordered)
                     rho = rodas.spectral_radius(J, power_vector, w1, w2, plan, order,
                                                 position)
@@ -321,7 +321,7 @@ def _compile(fingerprint):
 
 
 COMPILED_MODULES = ("band", "dop853", "dop853_tableau", "events", "functions",
-                    "iteration", "layout", "linalg", "loop", "rodas")
+                    "iteration", "layout", "linalg", "loop", "rodas", "sparse")
 
 
 def _fingerprint():
