@@ -1,0 +1,341 @@
+"""Exact sensitivities of a scene's measures with respect to its parameters.
+
+The forward sensitivity equations (:mod:`mechdyn.derive.sensitivity`) are integrated
+together with the motion at the scene's tolerances (scipy's DOP853), from the initial
+sensitivities ``dy0/dp`` (initial values may be expressions of parameters). A run that
+ends at a stop condition ``g(t, y, p) = 0`` ends at ``t*`` with
+
+    dt*/dp = -(g_y S + g_p) / (g_y f + g_t),   dy(t*)/dp = S(t*) + f(t*) dt*/dp
+
+(the event's own sensitivity, not a difference of runs). Measures of a run: ``t_end``,
+``stop_angle`` (the coordinate's travel to the end, one coordinate), ``final:STATE``.
+Measures of steady running (one coordinate, equations free of ``t``, no stop
+condition; :func:`mechdyn.analyse.fluctuation.steady_running`): ``mean_speed``
+(``cycle / cycle_time``) and ``fluctuation`` (``(omega_max - omega_min) / omega_mean``).
+Their derivatives follow from the fixed point ``omega(phi0 + Phi) = omega0`` by the
+implicit function theorem, ``d omega0/dp = w / (1 - v)`` (``v``, ``w``: derivatives of
+the cycle's end speed by ``omega0`` and ``p``), and at the extremes by the envelope
+argument: ``d omega_max/dp`` is the speed's partial derivative at the argmax.
+
+Sliding friction is included with its direction as at the start; a friction element
+that sticks or reverses before the run ends (a mode change, a state jump) is refused.
+
+>>> import mechdyn as md
+>>> brake = md.load_model("models/shoe_brake.py")
+>>> s = md.sensitivities(brake.mechanism, brake.scenes["braking"], brake.params,
+...                      wrt=["I", "P"], measures=["t_end"])
+>>> round(s["t_end", "I"], 9), round(s["t_end", "P"], 9)   # t = I w0 / (2 f P R)
+(125.0, -2.5)
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import sympy as sp
+from scipy.integrate import solve_ivp
+from scipy.optimize import minimize_scalar
+
+from mechdyn.compile.sensitivity_code import CycleSystem, ForwardSystem, stop_function
+from mechdyn.declare.parameters import ParameterSet
+from mechdyn.derive.sensitivity import (cycle_equations, forward_equations,
+                                        stop_derivatives)
+from mechdyn.errors import SceneError, SimulationError, did_you_mean
+from mechdyn.symbols import t
+from mechdyn.analyse.sensitivity_result import Sensitivities
+
+__all__ = ["sensitivities", "SensitivityError", "RUN_MEASURES", "CYCLE_MEASURES"]
+
+RUN_MEASURES = ("t_end", "stop_angle")
+CYCLE_MEASURES = ("mean_speed", "fluctuation")
+_CYCLE_RTOL, _CYCLE_ATOL, _GRID, _POLISH = 1e-12, 1e-13, 4001, 4
+
+
+class SensitivityError(SceneError):
+    """Sensitivities that cannot be derived: an unknown measure or parameter, or a
+    scene whose run changes mode (friction sticking or reversing, stops, loops)."""
+
+
+def sensitivities(mechanism, scene, params, wrt, measures=("t_end",), *, cycle=2 * math.pi,
+                  speed_guess=None) -> Sensitivities:
+    """Derivatives of ``measures`` with respect to the parameters ``wrt``.
+
+    Parameters
+    ----------
+    mechanism, scene, params
+        As for ``mechanism.simulate``.
+    wrt : list
+        Parameters (symbols or names) to differentiate for.
+    measures : list of str
+        ``t_end``, ``stop_angle``, ``final:STATE`` (of a run), ``mean_speed``,
+        ``fluctuation`` (of steady running over ``cycle``, from ``speed_guess``).
+
+    Returns
+    -------
+    Sensitivities
+    """
+    values = ParameterSet(params, mechanism=mechanism, scene=scene)
+    eqs = mechanism.equations(scene)
+    measures = [str(m) for m in ([measures] if isinstance(measures, str) else measures)]
+    if not measures:
+        raise SensitivityError("sensitivities: no measures asked for")
+    state_names = [str(s) for s in eqs.q + eqs.u]
+    for m in measures:
+        if not (m in RUN_MEASURES or m in CYCLE_MEASURES or
+                (m.startswith("final:") and m[6:] in state_names)):
+            known = list(RUN_MEASURES + CYCLE_MEASURES) + [f"final:{s}" for s in state_names]
+            raise SensitivityError(f"sensitivities: no measure {m!r} of scene "
+                                   f"{scene.name!r}{did_you_mean(m, known)} (these can be "
+                                   f"differentiated: {', '.join(known)})")
+    symbols = _symbols(eqs, scene)
+    wrt = [_parameter(p, symbols, values) for p in
+           ([wrt] if isinstance(wrt, (str, sp.Symbol)) else wrt)]
+    if not wrt:
+        raise SensitivityError("sensitivities: no parameters (wrt=) to differentiate for")
+    replace = _dependent(values, wrt, symbols)
+    results, rows, runs = {}, {}, 0
+    run = [m for m in measures if m not in CYCLE_MEASURES]
+    if run:
+        found = _run(eqs, scene, values, wrt, replace, run, symbols)
+        results.update(found[0])
+        rows.update(found[1])
+        runs += 1
+    if len(run) < len(measures):
+        found = _steady(mechanism, scene, values, eqs, wrt, replace, cycle, speed_guess)
+        results.update(found[0])
+        rows.update(found[1])
+        runs += 1
+    units = {str(p): (mechanism.parameter_units or {}).get(str(p), "") for p in wrt}
+    units.update({m: _unit(eqs, m) for m in measures})
+    return Sensitivities(f"{eqs.name} — scene {scene.name!r}", tuple(str(p) for p in wrt),
+                         {str(p): values.numbers[str(p)] for p in wrt}, tuple(measures),
+                         {m: results[m] for m in measures}, [rows[m] for m in measures],
+                         units, runs)
+
+
+# ------------------------------------------------------------------ parameters
+def _symbols(eqs, scene) -> dict:
+    """Every parameter symbol of the equations and the scene, by name."""
+    exprs = [eqs.mass_matrix, eqs.forcing] + [fr.magnitude for fr in eqs.frictions]
+    exprs += [sp.sympify(v) for v in scene.initial.values()]
+    exprs += [c.expression - c.value for c in scene.until]
+    state = set(eqs.q) | set(eqs.u) | set(eqs.a) | {t}
+    found = set().union(*(e.free_symbols for e in exprs))
+    return {s.name: s for s in found if isinstance(s, sp.Symbol) and s not in state}
+
+
+def _parameter(p, symbols, values):
+    name = str(p)
+    if name not in symbols:
+        raise SensitivityError(f"sensitivities: {name!r} is not a parameter of the scene's "
+                               f"equations{did_you_mean(name, list(symbols))}")
+    if name not in values.numbers:
+        raise SensitivityError(f"sensitivities: give a value for {name}")
+    return symbols[name]
+
+
+def _dependent(values, wrt, symbols) -> dict:
+    """``{symbol: expression of wrt}`` for values given as expressions of ``wrt``."""
+    depending = values.depending_on([str(p) for p in wrt])
+    if any(str(p) in depending for p in wrt):
+        raise SensitivityError("sensitivities: a parameter differentiated for is given as "
+                               "an expression of another")
+    replace = {}
+    for name, expr in depending.items():
+        replace[symbols.get(name, sp.Symbol(name))] = expr.xreplace(
+            {s: symbols[s.name] for s in expr.free_symbols if s.name in symbols})
+    for _ in range(len(replace)):
+        replace = {k: v.xreplace(replace) for k, v in replace.items()}
+    return replace
+
+
+def _vector(exprs, values, wrt, replace) -> tuple:
+    """The parameter symbols of ``exprs`` (``wrt`` first) and their values."""
+    known = set().union(*(sp.sympify(e).free_symbols for e in exprs))
+    others = sorted((s for s in known if s.name in values.numbers and s not in wrt
+                     and s not in replace), key=lambda s: s.name)
+    order = list(wrt) + others
+    return order, np.array([values.numbers[s.name] for s in order], dtype=float)
+
+
+def _number(expr, order, p) -> float:
+    return float(sp.sympify(expr).xreplace(dict(zip(order, map(sp.Float, p)))))
+
+
+# ------------------------------------------------------------------------- runs
+def _run(eqs, scene, values, wrt, replace, measures, symbols) -> tuple:
+    if eqs.constraints or eqs.contacts or eqs.gears:
+        raise SensitivityError(f"scene {scene.name!r}: sensitivities through closed loops, "
+                               "stops or lossy gears are not derived (their modes switch)")
+    n, k = eqs.dof, len(wrt)
+    y0, s0 = _initial(eqs, scene, symbols, replace, wrt, values)
+    numbers = {symbols[name]: v for name, v in values.numbers.items() if name in symbols}
+    state = dict(zip(list(eqs.q) + list(eqs.u), map(sp.Float, y0)))
+    signs = []
+    for fr in eqs.frictions:
+        rate = float(fr.rate.xreplace(state).xreplace(numbers))
+        if rate == 0:
+            raise SensitivityError(f"scene {scene.name!r}: friction {fr.name!r} starts "
+                                   "stuck (no sliding speed); its sensitivities are not derived")
+        signs.append(1 if rate > 0 else -1)
+    forward = forward_equations(eqs, wrt, signs, replace)
+    stops = [stop_derivatives(eqs.to_plain(c.expression - c.value).xreplace(replace),
+                              eqs.q, eqs.u, wrt) for c in scene.until]
+    order, p = _vector([forward.mass, forward.forcing, forward.residual_jacobian] +
+                       [s[0] for s in stops] + [fr.rate for fr in eqs.frictions],
+                       values, wrt, replace)
+    system = ForwardSystem(forward, order)
+    stop_values = [stop_function(s, eqs.q, eqs.u, order) for s in stops]
+    events = [_event(lambda tt, z, pp, f=f: f(tt, z[:2 * n], pp)[0], True, c.direction)
+              for f, c in zip(stop_values, scene.until)]
+    rates = [stop_function(stop_derivatives(fr.rate, eqs.q, eqs.u, wrt), eqs.q, eqs.u, order)
+             for fr in eqs.frictions]
+    events += [_event(lambda tt, z, pp, f=f: f(tt, z[:2 * n], pp)[0], False, 0) for f in rates]
+    atol = scene.atol if isinstance(scene.atol, float) else 1e-12
+    z0 = np.concatenate([y0, s0.ravel()])
+    try:
+        sol = solve_ivp(system.rhs, (scene.t_start, scene.time_limit), z0, method="DOP853",
+                        rtol=scene.rtol, atol=atol, events=events or None, args=(p,))
+    except (ArithmeticError, ValueError, np.linalg.LinAlgError) as error:
+        raise SimulationError(f"scene {scene.name!r}: the sensitivity integration failed: "
+                              f"{type(error).__name__}: {error}") from error
+    if sol.status == -1:
+        raise SimulationError(f"scene {scene.name!r}: the sensitivity integration failed "
+                              f"at t = {sol.t[-1]:.6g} s: {sol.message}")
+    t_end, z_end, dt = sol.t[-1], sol.y[:, -1], np.zeros(k)
+    stopped = [i for i in range(len(stops)) if len(sol.t_events[i])]
+    if stopped:
+        i = min(stopped, key=lambda j: sol.t_events[j][0])
+        t_end, z_end = sol.t_events[i][0], sol.y_events[i][0]
+    _check_modes(scene, eqs, sol, len(stops), t_end)
+    s_end = z_end[2 * n:].reshape(2 * n, k)
+    slope = system.rhs(t_end, z_end, p)[:2 * n]
+    if stopped:
+        _, g_y, g_t, g_p = stop_values[i](t_end, z_end[:2 * n], p)
+        crossing = g_y @ slope + g_t
+        if abs(crossing) <= 1e-12 * (np.abs(g_y) @ np.abs(slope) + abs(g_t)):
+            raise SensitivityError(f"scene {scene.name!r}: {scene.until[i]!r} is met "
+                                   f"tangentially at t = {t_end:.6g} s: its time has no "
+                                   "derivative")
+        dt = -(g_y @ s_end + g_p[:k]) / crossing
+    d_state = s_end + np.outer(slope, dt)
+    names = [str(s) for s in eqs.q + eqs.u]
+    results, rows = {}, {}
+    for m in measures:
+        if m == "t_end":
+            results[m], rows[m] = float(t_end), dt
+        elif m == "stop_angle":
+            if n != 1:
+                raise SensitivityError(f"stop_angle is the travel of one coordinate; scene "
+                                       f"{scene.name!r} has {n} (use final:STATE)")
+            results[m], rows[m] = float(z_end[0] - y0[0]), d_state[0] - s0[0]
+        else:
+            index = names.index(m[6:])
+            results[m], rows[m] = float(z_end[index]), d_state[index]
+    return results, rows
+
+
+def _event(function, terminal, direction):
+    function.terminal, function.direction = terminal, direction
+    return function
+
+
+def _check_modes(scene, eqs, sol, first, t_end):
+    """Refuse a friction element that stops sliding before the run ends."""
+    for j, fr in enumerate(eqs.frictions):
+        times = sol.t_events[first + j]
+        early = [x for x in times if x < t_end - 1e-9 * max(1.0, abs(t_end))]
+        if early:
+            raise SensitivityError(
+                f"scene {scene.name!r}: friction {fr.name!r} stops sliding at t = "
+                f"{early[0]:.6g} s, before the run ends (t = {t_end:.6g} s); sensitivities "
+                "across a friction mode change are not derived")
+
+
+def _initial(eqs, scene, symbols, replace, wrt, values) -> tuple:
+    """The initial state and its derivatives by ``wrt``."""
+    n = eqs.dof
+    y0, s0 = np.full(2 * n, np.nan), np.zeros((2 * n, len(wrt)))
+    slots = {s: i for i, s in enumerate(list(eqs.q) + list(eqs.u))}
+    numbers = {symbols[name]: v for name, v in values.numbers.items() if name in symbols}
+    for key, value in scene.initial.items():
+        slot = slots.get(eqs.to_plain(key))
+        if slot is None:
+            continue
+        expr = sp.sympify(value)
+        expr = expr.xreplace({s: symbols[s.name] for s in expr.free_symbols
+                              if s.name in symbols}).xreplace(replace)
+        y0[slot] = float(expr.xreplace(numbers))
+        s0[slot] = [float(sp.diff(expr, p).xreplace(numbers)) for p in wrt]
+    if np.isnan(y0).any():
+        missing = [str(s) for s, i in slots.items() if np.isnan(y0[i])]
+        raise SceneError(f"scene {scene.name!r}: missing initial values for "
+                         f"{', '.join(missing)}")
+    return y0, s0
+
+
+# ---------------------------------------------------------------- steady running
+def _steady(mechanism, scene, values, eqs, wrt, replace, cycle, speed_guess) -> tuple:
+    from mechdyn.analyse.fluctuation import steady_running
+    running = steady_running(mechanism, scene, values, cycle, speed_guess=speed_guess)
+    phi0, omega0 = running.initial
+    k, cycle = len(wrt), float(cycle)
+    equations = cycle_equations(eqs, wrt, replace)
+    order, p = _vector([equations[0], equations[1], *equations[2]], values, wrt, replace)
+    system = CycleSystem(equations, eqs.q[0], eqs.u[0], order)
+    for _ in range(_POLISH):         # the derivatives amplify an error of omega0
+        z0 = np.concatenate([[omega0, 0.0, 1.0, 0.0], np.zeros(2 * k)])
+        sol = solve_ivp(system.rhs, (phi0, phi0 + cycle), z0, method="DOP853",
+                        rtol=_CYCLE_RTOL, atol=_CYCLE_ATOL * max(1.0, omega0),
+                        dense_output=True, args=(p,))
+        if sol.status != 0:
+            raise SimulationError(f"scene {scene.name!r}: the cycle's sensitivity "
+                                  f"integration failed: {sol.message}")
+        end = sol.y[:, -1]
+        step = (end[0] - omega0) / (1.0 - end[2])
+        if abs(step) <= 10 * _CYCLE_RTOL * omega0:
+            break
+        omega0 += step
+    start_slope = end[4:4 + k] / (1.0 - end[2])              # d omega0 / dp
+    cycle_time = end[1]
+    time_slope = end[4 + k:] + end[3] * start_slope
+    mean = cycle / cycle_time
+    mean_slope = -cycle / cycle_time ** 2 * time_slope
+    extremes = []
+    for sign in (-1, 1):                                      # maximum, minimum
+        at = _argmin(lambda x: sign * sol.sol(x)[0], phi0, cycle)
+        z = sol.sol(at)
+        extremes.append((z[0], z[4:4 + k] + z[2] * start_slope))
+    (high, high_slope), (low, low_slope) = extremes
+    delta = (high - low) / mean
+    delta_slope = (high_slope - low_slope) / mean - delta / mean * mean_slope
+    return ({"mean_speed": float(mean), "fluctuation": float(delta)},
+            {"mean_speed": mean_slope, "fluctuation": delta_slope})
+
+
+def _argmin(function, start, cycle) -> float:
+    grid = np.linspace(start, start + cycle, _GRID)
+    values = np.array([function(x) for x in grid])
+    j = int(np.argmin(values))
+    lo, hi = grid[max(j - 1, 0)], grid[min(j + 1, len(grid) - 1)]
+    best = minimize_scalar(function, bounds=(lo, hi), method="bounded",
+                           options={"xatol": 1e-12 * max(1.0, abs(hi))})
+    return float(best.x) if best.fun <= values[j] else float(grid[j])
+
+
+def _unit(eqs, measure) -> str:
+    coordinate = eqs.coordinate_units.get(eqs.q[0], "rad") if eqs.dof == 1 else ""
+    if measure == "t_end":
+        return "s"
+    if measure == "fluctuation":
+        return "1"
+    if measure in ("stop_angle", "mean_speed"):
+        return coordinate + ("/s" if measure == "mean_speed" else "")
+    name = measure[6:]
+    for q, u in zip(eqs.q, eqs.u):
+        unit = eqs.coordinate_units.get(q, "")
+        if name == str(q):
+            return unit
+        if name == str(u):
+            return f"{unit}/s"
+    return ""
