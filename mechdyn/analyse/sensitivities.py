@@ -96,7 +96,7 @@ def sensitivities(mechanism, scene, params, wrt, measures=("t_end",), *, cycle=2
     results, rows, runs = {}, {}, 0
     run = [m for m in measures if m not in CYCLE_MEASURES]
     if run:
-        found = _run(eqs, scene, values, wrt, replace, run, symbols)
+        found = _run(mechanism, eqs, scene, values, wrt, replace, run, symbols)
         results.update(found[0])
         rows.update(found[1])
         runs += 1
@@ -149,21 +149,33 @@ def _dependent(values, wrt, symbols) -> dict:
     return replace
 
 
-def _vector(exprs, values, wrt, replace) -> tuple:
-    """The parameter symbols of ``exprs`` (``wrt`` first) and their values."""
+def _order(exprs, values, wrt, replace) -> list:
+    """The parameter symbols of ``exprs`` with values, ``wrt`` first."""
     known = set().union(*(sp.sympify(e).free_symbols for e in exprs))
     others = sorted((s for s in known if s.name in values.numbers and s not in wrt
                      and s not in replace), key=lambda s: s.name)
-    order = list(wrt) + others
-    return order, np.array([values.numbers[s.name] for s in order], dtype=float)
+    return list(wrt) + others
 
 
-def _number(expr, order, p) -> float:
-    return float(sp.sympify(expr).xreplace(dict(zip(order, map(sp.Float, p)))))
+def _key(wrt, replace, values) -> tuple:
+    """What the derived and lambdified functions depend on besides the equations."""
+    return (tuple(str(p) for p in wrt), tuple(sorted((str(k), sp.srepr(v))
+                                                     for k, v in replace.items())),
+            tuple(sorted(values.numbers)))
+
+
+def _prepared(mechanism, eqs, kind, key, build):
+    """``build()`` once per equations, kind and ``key`` (the mechanism's memo is cleared
+    by any change to the mechanism)."""
+    memo_key = ("sensitivities", kind, id(eqs), key)
+    hit = mechanism._memo.get(memo_key)
+    if hit is None or hit[0] is not eqs:
+        hit = mechanism._memo[memo_key] = (eqs, build())
+    return hit[1]
 
 
 # ------------------------------------------------------------------------- runs
-def _run(eqs, scene, values, wrt, replace, measures, symbols) -> tuple:
+def _run(mechanism, eqs, scene, values, wrt, replace, measures, symbols) -> tuple:
     if eqs.constraints or eqs.contacts or eqs.gears:
         raise SensitivityError(f"scene {scene.name!r}: sensitivities through closed loops, "
                                "stops or lossy gears are not derived (their modes switch)")
@@ -178,18 +190,23 @@ def _run(eqs, scene, values, wrt, replace, measures, symbols) -> tuple:
             raise SensitivityError(f"scene {scene.name!r}: friction {fr.name!r} starts "
                                    "stuck (no sliding speed); its sensitivities are not derived")
         signs.append(1 if rate > 0 else -1)
-    forward = forward_equations(eqs, wrt, signs, replace)
-    stops = [stop_derivatives(eqs.to_plain(c.expression - c.value).xreplace(replace),
-                              eqs.q, eqs.u, wrt) for c in scene.until]
-    order, p = _vector([forward.mass, forward.forcing, forward.residual_jacobian] +
+    def build():
+        forward = forward_equations(eqs, wrt, signs, replace)
+        stops = [stop_derivatives(eqs.to_plain(c.expression - c.value).xreplace(replace),
+                                  eqs.q, eqs.u, wrt) for c in scene.until]
+        order = _order([forward.mass, forward.forcing, forward.residual_jacobian] +
                        [s[0] for s in stops] + [fr.rate for fr in eqs.frictions],
                        values, wrt, replace)
-    system = ForwardSystem(forward, order)
-    stop_values = [stop_function(s, eqs.q, eqs.u, order) for s in stops]
+        rates = [stop_derivatives(fr.rate, eqs.q, eqs.u, wrt) for fr in eqs.frictions]
+        return (ForwardSystem(forward, order), order,
+                [stop_function(s, eqs.q, eqs.u, order) for s in stops],
+                [stop_function(r, eqs.q, eqs.u, order) for r in rates])
+    stops_key = tuple((sp.srepr(c.expression - c.value), c.direction) for c in scene.until)
+    system, order, stop_values, rates = _prepared(
+        mechanism, eqs, "run", _key(wrt, replace, values) + (tuple(signs), stops_key), build)
+    p = np.array([values.numbers[s.name] for s in order], dtype=float)
     events = [_event(lambda tt, z, pp, f=f: f(tt, z[:2 * n], pp)[0], True, c.direction)
               for f, c in zip(stop_values, scene.until)]
-    rates = [stop_function(stop_derivatives(fr.rate, eqs.q, eqs.u, wrt), eqs.q, eqs.u, order)
-             for fr in eqs.frictions]
     events += [_event(lambda tt, z, pp, f=f: f(tt, z[:2 * n], pp)[0], False, 0) for f in rates]
     atol = scene.atol if isinstance(scene.atol, float) else 1e-12
     z0 = np.concatenate([y0, s0.ravel()])
@@ -203,11 +220,11 @@ def _run(eqs, scene, values, wrt, replace, measures, symbols) -> tuple:
         raise SimulationError(f"scene {scene.name!r}: the sensitivity integration failed "
                               f"at t = {sol.t[-1]:.6g} s: {sol.message}")
     t_end, z_end, dt = sol.t[-1], sol.y[:, -1], np.zeros(k)
-    stopped = [i for i in range(len(stops)) if len(sol.t_events[i])]
+    stopped = [i for i in range(len(stop_values)) if len(sol.t_events[i])]
     if stopped:
         i = min(stopped, key=lambda j: sol.t_events[j][0])
         t_end, z_end = sol.t_events[i][0], sol.y_events[i][0]
-    _check_modes(scene, eqs, sol, len(stops), t_end)
+    _check_modes(scene, eqs, sol, len(stop_values), t_end)
     s_end = z_end[2 * n:].reshape(2 * n, k)
     slope = system.rhs(t_end, z_end, p)[:2 * n]
     if stopped:
@@ -280,9 +297,12 @@ def _steady(mechanism, scene, values, eqs, wrt, replace, cycle, speed_guess) -> 
     running = steady_running(mechanism, scene, values, cycle, speed_guess=speed_guess)
     phi0, omega0 = running.initial
     k, cycle = len(wrt), float(cycle)
-    equations = cycle_equations(eqs, wrt, replace)
-    order, p = _vector([equations[0], equations[1], *equations[2]], values, wrt, replace)
-    system = CycleSystem(equations, eqs.q[0], eqs.u[0], order)
+    def build():
+        equations = cycle_equations(eqs, wrt, replace)
+        order = _order([equations[0], equations[1], *equations[2]], values, wrt, replace)
+        return CycleSystem(equations, eqs.q[0], eqs.u[0], order), order
+    system, order = _prepared(mechanism, eqs, "cycle", _key(wrt, replace, values), build)
+    p = np.array([values.numbers[s.name] for s in order], dtype=float)
     for _ in range(_POLISH):         # the derivatives amplify an error of omega0
         z0 = np.concatenate([[omega0, 0.0, 1.0, 0.0], np.zeros(2 * k)])
         sol = solve_ivp(system.rhs, (phi0, phi0 + cycle), z0, method="DOP853",
@@ -303,7 +323,7 @@ def _steady(mechanism, scene, values, eqs, wrt, replace, cycle, speed_guess) -> 
     mean_slope = -cycle / cycle_time ** 2 * time_slope
     extremes = []
     for sign in (-1, 1):                                      # maximum, minimum
-        at = _argmin(lambda x: sign * sol.sol(x)[0], phi0, cycle)
+        at = _argmin(sol, sign, phi0, cycle)
         z = sol.sol(at)
         extremes.append((z[0], z[4:4 + k] + z[2] * start_slope))
     (high, high_slope), (low, low_slope) = extremes
@@ -313,12 +333,13 @@ def _steady(mechanism, scene, values, eqs, wrt, replace, cycle, speed_guess) -> 
             {"mean_speed": mean_slope, "fluctuation": delta_slope})
 
 
-def _argmin(function, start, cycle) -> float:
+def _argmin(sol, sign, start, cycle) -> float:
+    """Where ``sign * omega`` is least over the cycle (grid, then polished)."""
     grid = np.linspace(start, start + cycle, _GRID)
-    values = np.array([function(x) for x in grid])
+    values = sign * sol.sol(grid)[0]
     j = int(np.argmin(values))
     lo, hi = grid[max(j - 1, 0)], grid[min(j + 1, len(grid) - 1)]
-    best = minimize_scalar(function, bounds=(lo, hi), method="bounded",
+    best = minimize_scalar(lambda x: sign * sol.sol(x)[0], bounds=(lo, hi), method="bounded",
                            options={"xatol": 1e-12 * max(1.0, abs(hi))})
     return float(best.x) if best.fun <= values[j] else float(grid[j])
 

@@ -7,7 +7,7 @@ derivatives with respect to parameters, units, and the relative sensitivities
 >>> result["t_end", "J"], result.relative("t_end", "J")
 (2.0, 1.0)
 >>> print(result)
-disc: sensitivities (1 integration)
+disc: sensitivities (1 run)
 measure  value  unit  parameter  derivative  unit        relative [%/%]
 t_end        4  s     J                   2  s/(kg*m^2)               1
 1 % more J changes t_end by 1 %
@@ -40,7 +40,7 @@ class Sensitivities:
     Attributes: ``name``, ``parameters`` (names), ``values`` (parameter name -> value),
     ``measures`` (names), ``results`` (measure -> value), ``gradients`` (one row per
     measure, one column per parameter), ``units`` (of measures and parameters, SI),
-    ``integrations`` (how many integrations the derivatives took).
+    ``runs`` (simulations or steady-running solves the derivatives took).
     ``result[measure, parameter]`` is one derivative.
     """
     name: str
@@ -50,7 +50,7 @@ class Sensitivities:
     results: dict
     gradients: np.ndarray
     units: dict
-    integrations: int = 1
+    runs: int = 1
 
     def __post_init__(self):
         object.__setattr__(self, "gradients", np.asarray(self.gradients, dtype=float))
@@ -89,7 +89,7 @@ class Sensitivities:
                              self.relative(m, p)])
         return Table(["measure", "value", "unit", "parameter", "derivative", "unit",
                       "relative [%/%]"], rows, caption=f"{self.name}: sensitivities "
-                     f"({self.integrations} integration{'s' * (self.integrations != 1)})")
+                     f"({self.runs} run{'s' * (self.runs != 1)})")
 
     def summary(self) -> str:
         """The table, and per measure the parameter it is most sensitive to."""
