@@ -28,8 +28,10 @@ __all__ = ["ForwardSystem", "CycleSystem", "stop_function", "lambdified"]
 
 
 def lambdified(args, exprs):
-    """``sp.lambdify`` over numpy with common subexpressions eliminated."""
-    return sp.lambdify(args, exprs, modules=["numpy"], cse=True)
+    """A function of scalars returning the list ``exprs`` (flattened: matrices entry by
+    entry), by ``sp.lambdify`` over the math module with common subexpressions shared."""
+    flat = [e for expr in exprs for e in (expr if isinstance(expr, sp.MatrixBase) else [expr])]
+    return sp.lambdify(args, flat, modules=["math"], cse=True)
 
 
 class ForwardSystem:
@@ -40,14 +42,15 @@ class ForwardSystem:
         self.n, self.k = len(forward.q), len(forward.wrt)
         args = [t, *forward.q, *forward.u, *parameters]
         self._mass_force = lambdified(args, [forward.mass, forward.forcing])
-        self._residual = lambdified(args + list(forward.a), forward.residual_jacobian)
+        self._residual = lambdified(args + list(forward.a), [forward.residual_jacobian])
 
     def _solved(self, t_now, y, p):
-        mass, force = self._mass_force(t_now, *y, *p)
         n = self.n
-        mass = np.asarray(mass, dtype=float).reshape(n, n)
-        force = np.asarray(force, dtype=float).reshape(n)
-        return mass, np.linalg.solve(mass, force)
+        values = self._mass_force(t_now, *y, *p)
+        if n == 1:
+            return values[0], np.array([values[1] / values[0]])
+        mass = np.array(values[:n * n], dtype=float).reshape(n, n)
+        return mass, np.linalg.solve(mass, np.array(values[n * n:], dtype=float))
 
     def accelerations(self, t_now, y, p) -> np.ndarray:
         return self._solved(t_now, y, p)[1]
@@ -57,8 +60,9 @@ class ForwardSystem:
         z = np.asarray(z, dtype=float)
         y, s = z[:2 * n], z[2 * n:].reshape(2 * n, k)
         mass, a = self._solved(t_now, y, p)
-        residual = np.asarray(self._residual(t_now, *y, *p, *a), dtype=float)
-        slopes = np.linalg.solve(mass, residual.reshape(n, 2 * n + k))   # da/d[q, u, p]
+        residual = np.array(self._residual(t_now, *y, *p, *a), dtype=float)
+        residual = residual.reshape(n, 2 * n + k)
+        slopes = residual / mass if n == 1 else np.linalg.solve(mass, residual)
         ds = np.empty((2 * n, k))
         ds[:n] = s[n:]
         ds[n:] = slopes[:, :2 * n] @ s + slopes[:, 2 * n:]
@@ -81,7 +85,7 @@ class CycleSystem:
         h, h_omega, *h_p = self._f(phi, omega, *p)
         inverse_square = -1.0 / omega ** 2
         return np.concatenate([[h, 1.0 / omega, h_omega * v, inverse_square * v],
-                               h_omega * w + np.asarray(h_p, dtype=float),
+                               h_omega * w + np.array(h_p, dtype=float),
                                inverse_square * w])
 
 
@@ -89,10 +93,11 @@ def stop_function(derivatives, q, u, parameters):
     """``f(t, y, p) -> (g, dg/dy, dg/dt, dg/dp)`` from
     :func:`mechdyn.derive.sensitivity.stop_derivatives`."""
     g, g_y, g_t, g_p = derivatives
-    function = lambdified([t, *q, *u, *parameters], [g, g_y, g_t, g_p])
+    function = lambdified([t, *q, *u, *parameters], [g, *g_y, g_t, *g_p])
+    m = len(g_y)
 
     def evaluate(t_now, y, p):
-        value, gy, gt, gp = function(t_now, *y, *p)
-        return (float(value), np.asarray(gy, dtype=float), float(gt),
-                np.asarray(gp, dtype=float))
+        values = function(t_now, *y, *p)
+        return (float(values[0]), np.array(values[1:m + 1], dtype=float),
+                float(values[m + 1]), np.array(values[m + 2:], dtype=float))
     return evaluate
