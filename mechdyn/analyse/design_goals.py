@@ -31,7 +31,8 @@ import sympy as sp
 from mechdyn.errors import MechdynError, did_you_mean
 from mechdyn.units import UnitError, to_si
 
-__all__ = ["Goal", "Constraint", "read_goal", "read_constraint", "GoalError"]
+__all__ = ["Goal", "Constraint", "read_goal", "read_constraint", "GoalError",
+           "OptimizeError"]
 
 _MEASURE = re.compile(r"(t_end|stop_angle|mean_speed|fluctuation|final:[A-Za-z_]\w*)")
 _RELATION = re.compile(r"^(.*?)(<=|>=|==)(.*)$")
@@ -40,7 +41,11 @@ _BINARY = {ast.Add: sp.Add, ast.Sub: lambda a, b: a - b, ast.Mult: sp.Mul,
 _ALLOWED = "only numbers, parameter names, + - * / ** and parentheses are allowed"
 
 
-class GoalError(MechdynError, ValueError):
+class OptimizeError(MechdynError, ValueError):
+    """A sizing problem that cannot be set up (bounds, goals) or was not solved."""
+
+
+class GoalError(OptimizeError):
     """An objective or constraint that cannot be read."""
 
 

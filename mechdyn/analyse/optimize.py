@@ -24,19 +24,15 @@ import numpy as np
 from scipy.optimize import minimize as scipy_minimize, nnls
 
 from mechdyn.declare.parameters import ParameterSet
-from mechdyn.errors import MechdynError, did_you_mean
+from mechdyn.errors import did_you_mean
 from mechdyn.tabular import Table
 from mechdyn.units import to_si
-from mechdyn.analyse.design_goals import read_constraint, read_goal
+from mechdyn.analyse.design_goals import OptimizeError, read_constraint, read_goal
 from mechdyn.analyse.sensitivities import sensitivities, _symbols
 
 __all__ = ["optimize", "Optimum", "OptimizeError"]
 
 _ACTIVE = 1e-6
-
-
-class OptimizeError(MechdynError, ValueError):
-    """A sizing problem that cannot be set up (bounds, goals) or was not solved."""
 
 
 @dataclass(frozen=True)
