@@ -11,14 +11,16 @@ from scipy.optimize import brentq
 import mechdyn as md
 
 
-def test_shoe_brake_stop_time_and_angle_against_the_closed_forms():
+@pytest.mark.parametrize("backend", ["auto", "scipy"])
+def test_shoe_brake_stop_time_and_angle_against_the_closed_forms(backend):
     brake = md.load_model("models/shoe_brake.py")
     I, f, P, R = (brake.param_symbol(n) for n in "IfPR")
     omega0 = 100
     time = I * omega0 / (2 * f * P * R)             # constant deceleration 2 f P R / I
     angle = I * omega0 ** 2 / (4 * f * P * R)
     s = md.sensitivities(brake.mechanism, brake.scenes["braking"], brake.params,
-                         wrt=["I", "f", "P", "R"], measures=["t_end", "stop_angle", "final:phi"])
+                         wrt=["I", "f", "P", "R"], measures=["t_end", "stop_angle", "final:phi"],
+                         backend=backend)
     values = {sym: brake.params[sym] for sym in (I, f, P, R)}
     assert s.results["t_end"] == pytest.approx(float(time.subs(values)), rel=1e-10)
     for sym in (I, f, P, R):
@@ -44,10 +46,12 @@ def _startup():
     return drive, scene, values, tau * sp.log((w_inf - w_s) / (w_inf - w_1))
 
 
-def test_start_up_time_of_a_linear_motor_characteristic_against_its_closed_form():
+@pytest.mark.parametrize("backend", ["auto", "scipy"])
+def test_start_up_time_of_a_linear_motor_characteristic_against_its_closed_form(backend):
     drive, scene, values, time = _startup()
     names = [s.name for s in values]
-    s = drive.sensitivities(scene, values, wrt=names, measures=["t_end", "final:phidot"])
+    s = drive.sensitivities(scene, values, wrt=names, measures=["t_end", "final:phidot"],
+                            backend=backend)
     assert s.results["t_end"] == pytest.approx(float(time.subs(values)), rel=1e-9)
     for sym in values:
         assert s["t_end", sym.name] == pytest.approx(float(sp.diff(time, sym).subs(values)),
@@ -162,10 +166,12 @@ def test_unknown_measures_and_parameters_are_named():
         md.sensitivities(brake.mechanism, scene, brake.params, ["Q"], ["t_end"])
 
 
-def test_friction_that_sticks_before_the_end_is_refused():
+@pytest.mark.parametrize("backend", ["auto", "scipy"])
+def test_friction_that_sticks_before_the_end_is_refused(backend):
     brake = md.load_model("models/shoe_brake.py")
     phi = brake.mechanism.coordinates[0]
     scene = md.Scene("long", effects=["shoe"], initial={phi: 0, md.speed(phi): 100},
                      t_end=80)
     with pytest.raises(md.SensitivityError, match="friction 'shoe' stops sliding at t = 50"):
-        md.sensitivities(brake.mechanism, scene, brake.params, ["P"], ["final:phi"])
+        md.sensitivities(brake.mechanism, scene, brake.params, ["P"], ["final:phi"],
+                         backend=backend)

@@ -1,7 +1,8 @@
 """Exact sensitivities of a scene's measures with respect to its parameters.
 
 The forward sensitivity equations (:mod:`mechdyn.derive.sensitivity`) are integrated
-together with the motion at the scene's tolerances (scipy's DOP853), from the initial
+together with the motion at the scene's tolerances (DOP853 on the compiled kernels, or
+scipy's: :mod:`mechdyn.analyse.sensitivity_run`), from the initial
 sensitivities ``dy0/dp`` (initial values may be expressions of parameters). A run that
 ends at a stop condition ``g(t, y, p) = 0`` ends at ``t*`` with
 
@@ -43,6 +44,7 @@ from mechdyn.derive.sensitivity import (cycle_equations, forward_equations,
 from mechdyn.errors import SceneError, SimulationError, did_you_mean
 from mechdyn.symbols import t
 from mechdyn.analyse.sensitivity_result import Sensitivities
+from mechdyn.analyse.sensitivity_run import SensitivityError, integrate
 
 __all__ = ["sensitivities", "SensitivityError", "RUN_MEASURES", "CYCLE_MEASURES"]
 
@@ -51,13 +53,8 @@ CYCLE_MEASURES = ("mean_speed", "fluctuation")
 _CYCLE_RTOL, _CYCLE_ATOL, _GRID, _POLISH = 1e-12, 1e-13, 4001, 4
 
 
-class SensitivityError(SceneError):
-    """Sensitivities that cannot be derived: an unknown measure or parameter, or a
-    scene whose run changes mode (friction sticking or reversing, stops, loops)."""
-
-
 def sensitivities(mechanism, scene, params, wrt, measures=("t_end",), *, cycle=2 * math.pi,
-                  speed_guess=None) -> Sensitivities:
+                  speed_guess=None, backend="auto") -> Sensitivities:
     """Derivatives of ``measures`` with respect to the parameters ``wrt``.
 
     Parameters
@@ -69,11 +66,18 @@ def sensitivities(mechanism, scene, params, wrt, measures=("t_end",), *, cycle=2
     measures : list of str
         ``t_end``, ``stop_angle``, ``final:STATE`` (of a run), ``mean_speed``,
         ``fluctuation`` (of steady running over ``cycle``, from ``speed_guess``).
+    backend : str
+        ``"auto"``: a run on the compiled kernels where numba is importable (its
+        functions compiled once per equations and parameters, about a second);
+        ``"scipy"``: lambdified functions on scipy's DOP853.
 
     Returns
     -------
     Sensitivities
     """
+    if backend not in ("auto", "scipy"):
+        raise SensitivityError(f"sensitivities: backend must be 'auto' or 'scipy', got "
+                               f"{backend!r}")
     values = ParameterSet(params, mechanism=mechanism, scene=scene)
     eqs = mechanism.equations(scene)
     measures = [str(m) for m in ([measures] if isinstance(measures, str) else measures)]
@@ -96,7 +100,7 @@ def sensitivities(mechanism, scene, params, wrt, measures=("t_end",), *, cycle=2
     results, rows, runs = {}, {}, 0
     run = [m for m in measures if m not in CYCLE_MEASURES]
     if run:
-        found = _run(mechanism, eqs, scene, values, wrt, replace, run, symbols)
+        found = _run(mechanism, eqs, scene, values, wrt, replace, run, symbols, backend)
         results.update(found[0])
         rows.update(found[1])
         runs += 1
@@ -175,7 +179,19 @@ def _prepared(mechanism, eqs, kind, key, build):
 
 
 # ------------------------------------------------------------------------- runs
-def _run(mechanism, eqs, scene, values, wrt, replace, measures, symbols) -> tuple:
+def _kernel(eqs, scene, wrt, signs, replace, order):
+    """The compiled functions, or None without numba."""
+    try:
+        import numba  # noqa: F401
+    except ImportError:
+        return None
+    from mechdyn.compile.sensitivity_kernel import kernel_functions
+    watched = [eqs.to_plain(c.expression - c.value).xreplace(replace) for c in scene.until]
+    watched += [fr.rate for fr in eqs.frictions]
+    return kernel_functions(forward_equations(eqs, wrt, signs, replace), order, watched)
+
+
+def _run(mechanism, eqs, scene, values, wrt, replace, measures, symbols, backend) -> tuple:
     if eqs.constraints or eqs.contacts or eqs.gears:
         raise SensitivityError(f"scene {scene.name!r}: sensitivities through closed loops, "
                                "stops or lossy gears are not derived (their modes switch)")
@@ -202,32 +218,18 @@ def _run(mechanism, eqs, scene, values, wrt, replace, measures, symbols) -> tupl
                 [stop_function(s, eqs.q, eqs.u, order) for s in stops],
                 [stop_function(r, eqs.q, eqs.u, order) for r in rates])
     stops_key = tuple((sp.srepr(c.expression - c.value), c.direction) for c in scene.until)
-    system, order, stop_values, rates = _prepared(
-        mechanism, eqs, "run", _key(wrt, replace, values) + (tuple(signs), stops_key), build)
+    key = _key(wrt, replace, values) + (tuple(signs), stops_key)
+    prepared = _prepared(mechanism, eqs, "run", key, build)
+    system, order, stop_values = prepared[:3]
+    kernel = None if backend == "scipy" else _prepared(
+        mechanism, eqs, "kernel", key, lambda: _kernel(eqs, scene, wrt, signs, replace, order))
     p = np.array([values.numbers[s.name] for s in order], dtype=float)
-    events = [_event(lambda tt, z, pp, f=f: f(tt, z[:2 * n], pp)[0], True, c.direction)
-              for f, c in zip(stop_values, scene.until)]
-    events += [_event(lambda tt, z, pp, f=f: f(tt, z[:2 * n], pp)[0], False, 0) for f in rates]
-    atol = scene.atol if isinstance(scene.atol, float) else 1e-12
     z0 = np.concatenate([y0, s0.ravel()])
-    try:
-        sol = solve_ivp(system.rhs, (scene.t_start, scene.time_limit), z0, method="DOP853",
-                        rtol=scene.rtol, atol=atol, events=events or None, args=(p,))
-    except (ArithmeticError, ValueError, np.linalg.LinAlgError) as error:
-        raise SimulationError(f"scene {scene.name!r}: the sensitivity integration failed: "
-                              f"{type(error).__name__}: {error}") from error
-    if sol.status == -1:
-        raise SimulationError(f"scene {scene.name!r}: the sensitivity integration failed "
-                              f"at t = {sol.t[-1]:.6g} s: {sol.message}")
-    t_end, z_end, dt = sol.t[-1], sol.y[:, -1], np.zeros(k)
-    stopped = [i for i in range(len(stop_values)) if len(sol.t_events[i])]
-    if stopped:
-        i = min(stopped, key=lambda j: sol.t_events[j][0])
-        t_end, z_end = sol.t_events[i][0], sol.y_events[i][0]
-    _check_modes(scene, eqs, sol, len(stop_values), t_end)
+    t_end, z_end, i = integrate(prepared, scene, eqs.frictions, z0, p, kernel)
+    dt = np.zeros(k)
     s_end = z_end[2 * n:].reshape(2 * n, k)
     slope = system.rhs(t_end, z_end, p)[:2 * n]
-    if stopped:
+    if i is not None:
         _, g_y, g_t, g_p = stop_values[i](t_end, z_end[:2 * n], p)
         crossing = g_y @ slope + g_t
         if abs(crossing) <= 1e-12 * (np.abs(g_y) @ np.abs(slope) + abs(g_t)):
@@ -250,23 +252,6 @@ def _run(mechanism, eqs, scene, values, wrt, replace, measures, symbols) -> tupl
             index = names.index(m[6:])
             results[m], rows[m] = float(z_end[index]), d_state[index]
     return results, rows
-
-
-def _event(function, terminal, direction):
-    function.terminal, function.direction = terminal, direction
-    return function
-
-
-def _check_modes(scene, eqs, sol, first, t_end):
-    """Refuse a friction element that stops sliding before the run ends."""
-    for j, fr in enumerate(eqs.frictions):
-        times = sol.t_events[first + j]
-        early = [x for x in times if x < t_end - 1e-9 * max(1.0, abs(t_end))]
-        if early:
-            raise SensitivityError(
-                f"scene {scene.name!r}: friction {fr.name!r} stops sliding at t = "
-                f"{early[0]:.6g} s, before the run ends (t = {t_end:.6g} s); sensitivities "
-                "across a friction mode change are not derived")
 
 
 def _initial(eqs, scene, symbols, replace, wrt, values) -> tuple:
