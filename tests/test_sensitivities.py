@@ -175,3 +175,36 @@ def test_friction_that_sticks_before_the_end_is_refused(backend):
     with pytest.raises(md.SensitivityError, match="friction 'shoe' stops sliding at t = 50"):
         md.sensitivities(brake.mechanism, scene, brake.params, ["P"], ["final:phi"],
                          backend=backend)
+
+
+def _double_pendulum():
+    a, b = md.coordinates("a b")
+    m_1, m_2, l_1, l_2 = sp.symbols("m_1 m_2 l_1 l_2", positive=True)
+    pendulum = md.Mechanism("double pendulum", [a, b])
+    x_1, y_1 = l_1 * sp.sin(a), -l_1 * sp.cos(a)
+    pendulum.link("upper", m=m_1, x=x_1, y=y_1)
+    pendulum.link("lower", m=m_2, x=x_1 + l_2 * sp.sin(b), y=y_1 - l_2 * sp.cos(b))
+    pendulum.gravity()
+    initial = {a: 0.8, b: -0.3, md.speed(a): 0, md.speed(b): 0}
+    return pendulum, {m_1: 1.0, m_2: 0.6, l_1: 0.5, l_2: 0.4}, initial, a
+
+
+@pytest.mark.parametrize("backend", ["auto", "scipy"])
+def test_two_coupled_coordinates_against_central_differences_of_simulate(backend):
+    pendulum, params, initial, a = _double_pendulum()
+    scene = md.Scene("swing", initial=initial, until=md.reaches(a, 0), t_end=5)
+    names = [s.name for s in params]
+    measures = ["t_end", "final:b", "final:adot", "final:bdot"]
+    s = md.sensitivities(pendulum, scene, params, names, measures, backend=backend)
+
+    def run(values):
+        result = pendulum.simulate(scene, values)
+        assert result.reason != "t_end"
+        return np.array([result.t_end] + [result.final(m[6:]) for m in measures[1:]])
+    assert s.results["t_end"] == pytest.approx(run(params)[0], rel=1e-9)
+    for sym in params:
+        h = 1e-4 * params[sym]
+        central = (run({**params, sym: params[sym] + h}) -
+                   run({**params, sym: params[sym] - h})) / (2 * h)
+        exact = np.array([s[m, sym.name] for m in measures])
+        assert exact == pytest.approx(central, rel=1e-5, abs=1e-6 * np.abs(central).max()), sym

@@ -24,7 +24,7 @@ import sympy as sp
 
 from mechdyn.symbols import t
 
-__all__ = ["KernelFunctions", "kernel_functions"]
+__all__ = ["KernelFunctions", "kernel_functions", "solve_in_place"]
 
 
 class KernelFunctions(NamedTuple):
@@ -32,6 +32,51 @@ class KernelFunctions(NamedTuple):
     rhs: object
     events: object
     model: object
+
+
+def solve_in_place(a, b):
+    """Solve ``a x = b`` for the columns of ``b`` (n x m) by Gaussian elimination with
+    partial pivoting; ``b`` becomes ``x``, ``a`` is overwritten (compiled by numba).
+
+    >>> import numpy as np
+    >>> b = np.array([[1.0], [2.0]])
+    >>> solve_in_place(np.array([[0.0, 2.0], [4.0, 1.0]]), b)
+    >>> b.ravel().tolist()                     # 2 x1 = 1, 4 x0 + x1 = 2
+    [0.375, 0.5]
+    """
+    n, m = a.shape[0], b.shape[1]
+    for col in range(n):
+        pivot = col
+        for row in range(col + 1, n):
+            if abs(a[row, col]) > abs(a[pivot, col]):
+                pivot = row
+        for c in range(n):
+            a[col, c], a[pivot, c] = a[pivot, c], a[col, c]
+        for c in range(m):
+            b[col, c], b[pivot, c] = b[pivot, c], b[col, c]
+        for row in range(col + 1, n):
+            factor = a[row, col] / a[col, col]
+            for c in range(col, n):
+                a[row, c] -= factor * a[col, c]
+            for c in range(m):
+                b[row, c] -= factor * b[col, c]
+    for col in range(n - 1, -1, -1):
+        for c in range(m):
+            total = b[col, c]
+            for row in range(col + 1, n):
+                total -= a[col, row] * b[row, c]
+            b[col, c] = total / a[col, col]
+
+
+_COMPILED = {}
+
+
+def _compiled_solver():
+    """:func:`solve_in_place` compiled once per process."""
+    if "solve" not in _COMPILED:
+        from numba import njit
+        _COMPILED["solve"] = njit(error_model="numpy")(solve_in_place)
+    return _COMPILED["solve"]
 
 
 def _assignments(exprs, rename, prefix):
@@ -67,13 +112,15 @@ def kernel_functions(forward, parameters, watched) -> KernelFunctions:
     else:
         body.append(f"    mass = np.empty(({n}, {n}))")
         body += [f"    mass[{i}, {j}] = m{i * n + j}" for i in range(n) for j in range(n)]
-        body.append(f"    a = np.linalg.solve(mass, np.array([{', '.join(f'm{n * n + i}' for i in range(n))}]))")
-        body += [f"    _a{i} = a[{i}]" for i in range(n)]
+        body.append(f"    a = np.empty(({n}, 1))")
+        body += [f"    a[{i}, 0] = m{n * n + i}" for i in range(n)]
+        body.append("    solve(mass.copy(), a)")
+        body += [f"    _a{i} = a[{i}, 0]" for i in range(n)]
     width = 2 * n + k
     body += _assignments(list(forward.residual_jacobian), rename, "r")
     body.append(f"    slopes = np.empty(({n}, {width}))")
     body += [f"    slopes[{i}, {j}] = r{i * width + j}" for i in range(n) for j in range(width)]
-    body.append("    slopes = slopes / m0" if n == 1 else "    slopes = np.linalg.solve(mass, slopes)")
+    body.append("    slopes = slopes / m0" if n == 1 else "    solve(mass, slopes)")
     body += [f"    out[{i}] = _u{i}" for i in range(n)] + [f"    out[{n + i}] = _a{i}" for i in range(n)]
     body += [f"    s = z[{2 * n}:].reshape(({2 * n}, {k}))",
              f"    for j in range({k}):",
@@ -86,6 +133,8 @@ def kernel_functions(forward, parameters, watched) -> KernelFunctions:
     events = list(head) + (_assignments(watched, rename, "g") if watched else [])
     events += [f"    out[{i}] = g{i}" for i in range(len(watched))] or ["    pass"]
     namespace = {"np": np, "math": __import__("math")}
+    if n > 1:
+        namespace["solve"] = _compiled_solver()
     source = "def rhs(t, z, p, out):\n" + "\n".join(body) + \
         "\n\ndef events(t, z, p, out):\n" + "\n".join(events) + "\n"
     exec(compile(source, "<mechdyn sensitivity kernel>", "exec"), namespace)
