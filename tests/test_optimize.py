@@ -110,3 +110,10 @@ def test_the_sensitivities_command(capsys):
                    "P", "--measure", "t_end"])
     assert status == 0
     assert "s/N" in capsys.readouterr().out
+
+
+def test_a_failing_run_names_the_point():
+    machine, scene, J = _machine()
+    machine.load("overload", -500, along=machine.coordinates[0])   # the motor gives <= 400
+    with pytest.raises(md.OptimizeError, match=r"the run at J = 2 failed after 0 points"):
+        md.optimize(machine, scene, {J: 2}, vary={J: (0.01, 10)}, minimize="fluctuation")

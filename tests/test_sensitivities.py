@@ -156,6 +156,14 @@ def test_steady_measures_agree_with_steady_running_and_print_as_a_table():
         s["fluctuation", "J_f"] * 0.5 / running.delta, rel=1e-6)
 
 
+def test_the_bar_chart_is_written(tmp_path):
+    brake = md.load_model("models/shoe_brake.py")
+    s = md.sensitivities(brake.mechanism, brake.scenes["braking"], brake.params, ["I", "P"],
+                         ["t_end", "stop_angle"], backend="scipy")
+    s.plot(tmp_path / "bars.png")
+    assert (tmp_path / "bars.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
 # ------------------------------------------------------------------- refusals
 def test_unknown_measures_and_parameters_are_named():
     brake = md.load_model("models/shoe_brake.py")

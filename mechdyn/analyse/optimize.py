@@ -24,7 +24,7 @@ import numpy as np
 from scipy.optimize import minimize as scipy_minimize, nnls
 
 from mechdyn.declare.parameters import ParameterSet
-from mechdyn.errors import did_you_mean
+from mechdyn.errors import MechdynError, did_you_mean
 from mechdyn.tabular import Table
 from mechdyn.units import to_si
 from mechdyn.analyse.design_goals import OptimizeError, read_constraint, read_goal
@@ -113,8 +113,13 @@ def optimize(mechanism, scene, params, vary, minimize=None, subject_to=(), *, ma
             point = dict(zip(names, x))
             found = {}
             if measures:
-                s = sensitivities(mechanism, scene, {**values.numbers, **point}, names,
-                                  measures, speed_guess=speed_guess, **options)
+                try:
+                    s = sensitivities(mechanism, scene, {**values.numbers, **point}, names,
+                                      measures, speed_guess=speed_guess, **options)
+                except MechdynError as error:
+                    chosen = ", ".join(f"{k} = {v:.8g}" for k, v in point.items())
+                    raise OptimizeError(f"optimize: the run at {chosen} failed after "
+                                        f"{counts['evaluations']} points: {error}") from error
                 counts["simulations"] += s.runs
                 found = {m: (s.results[m], s.gradients[i]) for i, m in enumerate(measures)}
             counts["evaluations"] += 1
@@ -135,8 +140,8 @@ def optimize(mechanism, scene, params, vary, minimize=None, subject_to=(), *, ma
 
     span = high - low
     start = np.clip([values.numbers[n] for n in names], low, high)
-    scale = max(abs(evaluate(start)[0][0]), 1e-300)
-    limits = [max(abs(c.limit), 1e-300) for c in constraints]
+    scale = abs(evaluate(start)[0][0]) or 1.0
+    limits = [abs(c.limit) or 1.0 for c in constraints]
 
     def physical(xi):
         return low + span * np.asarray(xi, dtype=float)
