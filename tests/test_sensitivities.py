@@ -122,16 +122,16 @@ def _precise_steady(mech, scene, params):
                                 options={"xatol": 1e-12})
         extremes.append(sign * found.fun)
     mean = 2 * math.pi / sol.y[1, -1]
-    return np.array([mean, (extremes[0] - extremes[1]) / mean])
+    return np.array([mean, (extremes[0] - extremes[1]) / mean, sol.y[1, -1]])
 
 
 @pytest.mark.slow
 def test_mean_speed_and_fluctuation_against_central_differences():
     mech, scene, params = _slider_crank()
     s = md.sensitivities(mech, scene, params, wrt=["J_f", "M_0", "r"],
-                         measures=["mean_speed", "fluctuation"])
-    assert [s.results["mean_speed"], s.results["fluctuation"]] == pytest.approx(
-        _precise_steady(mech, scene, params), rel=1e-8)
+                         measures=["mean_speed", "fluctuation", "cycle_time"])
+    assert [s.results["mean_speed"], s.results["fluctuation"], s.results["cycle_time"]] == \
+        pytest.approx(_precise_steady(mech, scene, params), rel=1e-8)
     for name in ("J_f", "M_0", "r"):
         sym = next(k for k in params if k.name == name)
         h = 1e-2 * params[sym]
@@ -140,6 +140,7 @@ def test_mean_speed_and_fluctuation_against_central_differences():
         central = (values[0] - 8 * values[1] + 8 * values[2] - values[3]) / (12 * h)
         assert s["mean_speed", name] == pytest.approx(central[0], rel=1e-5), name
         assert s["fluctuation", name] == pytest.approx(central[1], rel=1e-5), name
+        assert s["cycle_time", name] == pytest.approx(central[2], rel=1e-5), name
 
 
 def test_steady_measures_agree_with_steady_running_and_print_as_a_table():
@@ -216,3 +217,17 @@ def test_two_coupled_coordinates_against_central_differences_of_simulate(backend
                    run({**params, sym: params[sym] - h})) / (2 * h)
         exact = np.array([s[m, sym.name] for m in measures])
         assert exact == pytest.approx(central, rel=1e-5, abs=1e-6 * np.abs(central).max()), sym
+
+
+def test_stop_angles_of_several_coordinates():
+    pendulum, params, initial, a = _double_pendulum()
+    scene = md.Scene("swing", initial=initial, until=md.reaches(a, 0), t_end=5)
+    s = md.sensitivities(pendulum, scene, params, ["l_2"], ["stop_angle:b", "final:b"],
+                         backend="scipy")
+    assert s.results["stop_angle:b"] == pytest.approx(s.results["final:b"] + 0.3, rel=1e-12)
+    assert s["stop_angle:b", "l_2"] == s["final:b", "l_2"]      # b starts at -0.3 whatever l_2
+    with pytest.raises(md.SensitivityError, match="name one: stop_angle:a"):
+        md.sensitivities(pendulum, scene, params, ["l_2"], ["stop_angle"], backend="scipy")
+    timed = md.Scene("timed", initial=initial, t_end=0.1)
+    with pytest.raises(md.SensitivityError, match="did not stop at a stop condition"):
+        md.sensitivities(pendulum, timed, params, ["l_2"], ["stop_angle:a"], backend="scipy")

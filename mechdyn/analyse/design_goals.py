@@ -34,7 +34,8 @@ from mechdyn.units import UnitError, to_si
 __all__ = ["Goal", "Constraint", "read_goal", "read_constraint", "GoalError",
            "OptimizeError"]
 
-_MEASURE = re.compile(r"(t_end|stop_angle|mean_speed|fluctuation|final:[A-Za-z_]\w*)")
+_MEASURE = re.compile(r"(t_end|mean_speed|fluctuation|cycle_time|"
+                      r"(stop_angle|final):[A-Za-z_]\w*|stop_angle)")
 _RELATION = re.compile(r"^(.*?)(<=|>=|==)(.*)$")
 _BINARY = {ast.Add: sp.Add, ast.Sub: lambda a, b: a - b, ast.Mult: sp.Mul,
            ast.Div: lambda a, b: a / b, ast.Pow: sp.Pow}
@@ -80,7 +81,7 @@ def read_goal(text, parameters) -> Goal:
     except SyntaxError:
         raise GoalError(f"{text!r}: not a measure's name or an expression of parameters "
                         "(measures: t_end, stop_angle, mean_speed, fluctuation, "
-                        "final:STATE)") from None
+                        "cycle_time, final:STATE)") from None
     return Goal(text, expression=_build(tree.body, text, parameters))
 
 

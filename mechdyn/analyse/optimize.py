@@ -197,8 +197,8 @@ def _bounds(vary, symbols, units) -> tuple:
 
 def _measure_units(eqs) -> dict:
     from mechdyn.analyse.sensitivities import _unit
-    names = ["t_end", "stop_angle", "mean_speed", "fluctuation"]
-    names += [f"final:{s}" for s in eqs.q + eqs.u]
+    names = ["t_end", "stop_angle", "mean_speed", "fluctuation", "cycle_time"]
+    names += [f"final:{s}" for s in eqs.q + eqs.u] + [f"stop_angle:{s}" for s in eqs.q]
     return {n: _unit(eqs, n) for n in names}
 
 

@@ -9,10 +9,12 @@ ends at a stop condition ``g(t, y, p) = 0`` ends at ``t*`` with
     dt*/dp = -(g_y S + g_p) / (g_y f + g_t),   dy(t*)/dp = S(t*) + f(t*) dt*/dp
 
 (the event's own sensitivity, not a difference of runs). Measures of a run: ``t_end``,
-``stop_angle`` (the coordinate's travel to the end, one coordinate), ``final:STATE``.
+``stop_angle`` (the coordinate's travel to a stop condition; ``stop_angle:COORDINATE``
+of several), ``final:STATE``.
 Measures of steady running (one coordinate, equations free of ``t``, no stop
 condition; :func:`mechdyn.analyse.fluctuation.steady_running`): ``mean_speed``
-(``cycle / cycle_time``) and ``fluctuation`` (``(omega_max - omega_min) / omega_mean``).
+(``cycle / cycle_time``), ``fluctuation`` (``(omega_max - omega_min) / omega_mean``)
+and ``cycle_time``.
 Their derivatives follow from the fixed point ``omega(phi0 + Phi) = omega0`` by the
 implicit function theorem, ``d omega0/dp = w / (1 - v)`` (``v``, ``w``: derivatives of
 the cycle's end speed by ``omega0`` and ``p``), and at the extremes by the envelope
@@ -49,7 +51,7 @@ from mechdyn.analyse.sensitivity_run import SensitivityError, integrate
 __all__ = ["sensitivities", "SensitivityError", "RUN_MEASURES", "CYCLE_MEASURES"]
 
 RUN_MEASURES = ("t_end", "stop_angle")
-CYCLE_MEASURES = ("mean_speed", "fluctuation")
+CYCLE_MEASURES = ("mean_speed", "fluctuation", "cycle_time")
 _CYCLE_RTOL, _CYCLE_ATOL, _GRID, _POLISH = 1e-12, 1e-13, 4001, 4
 
 
@@ -86,8 +88,10 @@ def sensitivities(mechanism, scene, params, wrt, measures=("t_end",), *, cycle=2
     state_names = [str(s) for s in eqs.q + eqs.u]
     for m in measures:
         if not (m in RUN_MEASURES or m in CYCLE_MEASURES or
-                (m.startswith("final:") and m[6:] in state_names)):
+                (m.startswith("final:") and m[6:] in state_names) or
+                (m.startswith("stop_angle:") and m[11:] in state_names[:eqs.dof])):
             known = list(RUN_MEASURES + CYCLE_MEASURES) + [f"final:{s}" for s in state_names]
+            known += [f"stop_angle:{s}" for s in state_names[:eqs.dof]]
             raise SensitivityError(f"sensitivities: no measure {m!r} of scene "
                                    f"{scene.name!r}{did_you_mean(m, known)} (these can be "
                                    f"differentiated: {', '.join(known)})")
@@ -243,11 +247,15 @@ def _run(mechanism, eqs, scene, values, wrt, replace, measures, symbols, backend
     for m in measures:
         if m == "t_end":
             results[m], rows[m] = float(t_end), dt
-        elif m == "stop_angle":
-            if n != 1:
-                raise SensitivityError(f"stop_angle is the travel of one coordinate; scene "
-                                       f"{scene.name!r} has {n} (use final:STATE)")
-            results[m], rows[m] = float(z_end[0] - y0[0]), d_state[0] - s0[0]
+        elif m.startswith("stop_angle"):
+            if i is None:
+                raise SensitivityError(f"{m}: the run did not stop at a stop condition (it "
+                                       f"ended at t = {t_end:.6g} s); a stop angle needs until=")
+            if m == "stop_angle" and n != 1:
+                raise SensitivityError(f"{m}: the run has {n} coordinates; name one: "
+                                       f"stop_angle:{names[0]}")
+            j = names.index(m[11:]) if ":" in m else 0
+            results[m], rows[m] = float(z_end[j] - y0[j]), d_state[j] - s0[j]
         else:
             index = names.index(m[6:])
             results[m], rows[m] = float(z_end[index]), d_state[index]
@@ -314,8 +322,9 @@ def _steady(mechanism, scene, values, eqs, wrt, replace, cycle, speed_guess) -> 
     (high, high_slope), (low, low_slope) = extremes
     delta = (high - low) / mean
     delta_slope = (high_slope - low_slope) / mean - delta / mean * mean_slope
-    return ({"mean_speed": float(mean), "fluctuation": float(delta)},
-            {"mean_speed": mean_slope, "fluctuation": delta_slope})
+    return ({"mean_speed": float(mean), "fluctuation": float(delta),
+             "cycle_time": float(cycle_time)},
+            {"mean_speed": mean_slope, "fluctuation": delta_slope, "cycle_time": time_slope})
 
 
 def _argmin(sol, sign, start, cycle) -> float:
@@ -331,13 +340,13 @@ def _argmin(sol, sign, start, cycle) -> float:
 
 def _unit(eqs, measure) -> str:
     coordinate = eqs.coordinate_units.get(eqs.q[0], "rad") if eqs.dof == 1 else ""
-    if measure == "t_end":
+    if measure in ("t_end", "cycle_time"):
         return "s"
     if measure == "fluctuation":
         return "1"
     if measure in ("stop_angle", "mean_speed"):
         return coordinate + ("/s" if measure == "mean_speed" else "")
-    name = measure[6:]
+    name = measure.partition(":")[2]
     for q, u in zip(eqs.q, eqs.u):
         unit = eqs.coordinate_units.get(q, "")
         if name == str(q):
