@@ -20,8 +20,9 @@ implicit function theorem, ``d omega0/dp = w / (1 - v)`` (``v``, ``w``: derivati
 the cycle's end speed by ``omega0`` and ``p``), and at the extremes by the envelope
 argument: ``d omega_max/dp`` is the speed's partial derivative at the argmax.
 
-Sliding friction is included with its direction as at the start; a friction element
-that sticks or reverses before the run ends (a mode change, a state jump) is refused.
+Sliding friction that reverses (its static peak cannot hold it) jumps the sensitivities
+by ``(f- - f+) dt*/dp`` (:mod:`mechdyn.analyse.sensitivity_run`); friction that sticks
+before the run ends is refused.
 
 >>> import mechdyn as md
 >>> brake = md.load_model("models/shoe_brake.py")
@@ -210,26 +211,33 @@ def _run(mechanism, eqs, scene, values, wrt, replace, measures, symbols, backend
             raise SensitivityError(f"scene {scene.name!r}: friction {fr.name!r} starts "
                                    "stuck (no sliding speed); its sensitivities are not derived")
         signs.append(1 if rate > 0 else -1)
-    def build():
-        forward = forward_equations(eqs, wrt, signs, replace)
-        stops = [stop_derivatives(eqs.to_plain(c.expression - c.value).xreplace(replace),
-                                  eqs.q, eqs.u, wrt) for c in scene.until]
-        order = _order([forward.mass, forward.forcing, forward.residual_jacobian] +
-                       [s[0] for s in stops] + [fr.rate for fr in eqs.frictions],
-                       values, wrt, replace)
-        rates = [stop_derivatives(fr.rate, eqs.q, eqs.u, wrt) for fr in eqs.frictions]
-        return (ForwardSystem(forward, order), order,
-                [stop_function(s, eqs.q, eqs.u, order) for s in stops],
-                [stop_function(r, eqs.q, eqs.u, order) for r in rates])
     stops_key = tuple((sp.srepr(c.expression - c.value), c.direction) for c in scene.until)
-    key = _key(wrt, replace, values) + (tuple(signs), stops_key)
-    prepared = _prepared(mechanism, eqs, "run", key, build)
-    system, order, stop_values = prepared[:3]
-    kernel = None if backend == "scipy" else _prepared(
-        mechanism, eqs, "kernel", key, lambda: _kernel(eqs, scene, wrt, signs, replace, order))
-    p = np.array([values.numbers[s.name] for s in order], dtype=float)
+
+    def segment(signs):
+        """The functions of one friction mode (``signs``), kept in the memo."""
+        def build():
+            forward = forward_equations(eqs, wrt, signs, replace)
+            stops = [stop_derivatives(eqs.to_plain(c.expression - c.value).xreplace(replace),
+                                      eqs.q, eqs.u, wrt) for c in scene.until]
+            order = _order([forward.mass, forward.forcing, forward.residual_jacobian] +
+                           [s[0] for s in stops] + [fr.rate for fr in eqs.frictions],
+                           values, wrt, replace)
+            rates = [stop_derivatives(fr.rate, eqs.q, eqs.u, wrt) for fr in eqs.frictions]
+            return (ForwardSystem(forward, order), order,
+                    [stop_function(s, eqs.q, eqs.u, order) for s in stops],
+                    [stop_function(r, eqs.q, eqs.u, order) for r in rates])
+        key = _key(wrt, replace, values) + (tuple(signs), stops_key)
+        prepared = _prepared(mechanism, eqs, "run", key, build)
+        compiled = backend != "scipy" and all(abs(x) == 1 for x in signs)
+        kernel = None if not compiled else _prepared(
+            mechanism, eqs, "kernel", key,
+            lambda: _kernel(eqs, scene, wrt, signs, replace, prepared[1]))
+        p = np.array([values.numbers[s.name] for s in prepared[1]], dtype=float)
+        return prepared, kernel, p
+    peaks = [float(sp.sympify(fr.peak).xreplace(numbers)) for fr in eqs.frictions]
     z0 = np.concatenate([y0, s0.ravel()])
-    t_end, z_end, i = integrate(prepared, scene, eqs.frictions, z0, p, kernel)
+    t_end, z_end, i, (system, _, stop_values, _), p = integrate(
+        segment, scene, eqs.frictions, peaks, signs, z0)
     dt = np.zeros(k)
     s_end = z_end[2 * n:].reshape(2 * n, k)
     slope = system.rhs(t_end, z_end, p)[:2 * n]
