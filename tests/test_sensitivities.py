@@ -198,7 +198,7 @@ def _double_pendulum():
     return pendulum, {m_1: 1.0, m_2: 0.6, l_1: 0.5, l_2: 0.4}, initial, a
 
 
-@pytest.mark.parametrize("backend", ["auto", "scipy"])
+@pytest.mark.parametrize("backend", [pytest.param("auto", marks=pytest.mark.slow), "scipy"])
 def test_two_coupled_coordinates_against_central_differences_of_simulate(backend):
     pendulum, params, initial, a = _double_pendulum()
     scene = md.Scene("swing", initial=initial, until=md.reaches(a, 0), t_end=5)

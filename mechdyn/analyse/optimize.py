@@ -28,7 +28,7 @@ from mechdyn.errors import MechdynError, did_you_mean
 from mechdyn.tabular import Table
 from mechdyn.units import to_si
 from mechdyn.analyse.design_goals import OptimizeError, read_constraint, read_goal
-from mechdyn.analyse.sensitivities import sensitivities, _symbols
+from mechdyn.analyse.sensitivities import measure_unit, parameter_symbols, sensitivities
 
 __all__ = ["optimize", "Optimum", "OptimizeError"]
 
@@ -94,7 +94,7 @@ def optimize(mechanism, scene, params, vary, minimize=None, subject_to=(), *, ma
         raise OptimizeError("optimize: give one of minimize= or maximize=")
     values = ParameterSet(params, mechanism=mechanism, scene=scene)
     eqs = mechanism.equations(scene)
-    symbols = _symbols(eqs, scene)
+    symbols = parameter_symbols(eqs, scene)
     units = dict(mechanism.parameter_units or {})
     names, low, high = _bounds(vary, symbols, units)
     sense = 1.0 if maximize is None else -1.0
@@ -196,10 +196,9 @@ def _bounds(vary, symbols, units) -> tuple:
 
 
 def _measure_units(eqs) -> dict:
-    from mechdyn.analyse.sensitivities import _unit
     names = ["t_end", "stop_angle", "mean_speed", "fluctuation", "cycle_time"]
     names += [f"final:{s}" for s in eqs.q + eqs.u] + [f"stop_angle:{s}" for s in eqs.q]
-    return {n: _unit(eqs, n) for n in names}
+    return {n: measure_unit(eqs, n) for n in names}
 
 
 def _optimum(names, x, low, high, final, objective, constraints, sense, result, counts,

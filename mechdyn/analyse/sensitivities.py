@@ -49,7 +49,8 @@ from mechdyn.symbols import t
 from mechdyn.analyse.sensitivity_result import Sensitivities
 from mechdyn.analyse.sensitivity_run import SensitivityError, integrate
 
-__all__ = ["sensitivities", "SensitivityError", "RUN_MEASURES", "CYCLE_MEASURES"]
+__all__ = ["sensitivities", "SensitivityError", "RUN_MEASURES", "CYCLE_MEASURES",
+           "measure_unit", "parameter_symbols"]
 
 RUN_MEASURES = ("t_end", "stop_angle")
 CYCLE_MEASURES = ("mean_speed", "fluctuation", "cycle_time")
@@ -96,7 +97,7 @@ def sensitivities(mechanism, scene, params, wrt, measures=("t_end",), *, cycle=2
             raise SensitivityError(f"sensitivities: no measure {m!r} of scene "
                                    f"{scene.name!r}{did_you_mean(m, known)} (these can be "
                                    f"differentiated: {', '.join(known)})")
-    symbols = _symbols(eqs, scene)
+    symbols = parameter_symbols(eqs, scene)
     wrt = [_parameter(p, symbols, values) for p in
            ([wrt] if isinstance(wrt, (str, sp.Symbol)) else wrt)]
     if not wrt:
@@ -115,7 +116,7 @@ def sensitivities(mechanism, scene, params, wrt, measures=("t_end",), *, cycle=2
         rows.update(found[1])
         runs += 1
     units = {str(p): (mechanism.parameter_units or {}).get(str(p), "") for p in wrt}
-    units.update({m: _unit(eqs, m) for m in measures})
+    units.update({m: measure_unit(eqs, m) for m in measures})
     return Sensitivities(f"{eqs.name} — scene {scene.name!r}", tuple(str(p) for p in wrt),
                          {str(p): values.numbers[str(p)] for p in wrt}, tuple(measures),
                          {m: results[m] for m in measures}, [rows[m] for m in measures],
@@ -123,7 +124,7 @@ def sensitivities(mechanism, scene, params, wrt, measures=("t_end",), *, cycle=2
 
 
 # ------------------------------------------------------------------ parameters
-def _symbols(eqs, scene) -> dict:
+def parameter_symbols(eqs, scene) -> dict:
     """Every parameter symbol of the equations and the scene, by name."""
     exprs = [eqs.mass_matrix, eqs.forcing] + [fr.magnitude for fr in eqs.frictions]
     exprs += [sp.sympify(v) for v in scene.initial.values()]
@@ -346,7 +347,8 @@ def _argmin(sol, sign, start, cycle) -> float:
     return float(best.x) if best.fun <= values[j] else float(grid[j])
 
 
-def _unit(eqs, measure) -> str:
+def measure_unit(eqs, measure) -> str:
+    """The SI unit of a measure of the equations ``eqs`` ("" where unknown)."""
     coordinate = eqs.coordinate_units.get(eqs.q[0], "rad") if eqs.dof == 1 else ""
     if measure in ("t_end", "cycle_time"):
         return "s"

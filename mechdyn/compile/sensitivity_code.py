@@ -35,8 +35,8 @@ def lambdified(args, exprs):
 
 
 class ForwardSystem:
-    """``rhs(t, z, p)`` of the state with its sensitivities; ``accelerations(t, y, p)``.
-    ``parameters``: the symbols of the vector ``p``, in order."""
+    """``rhs(t, z, p)`` of the state with its sensitivities; ``parameters``: the symbols
+    of the vector ``p``, in order."""
 
     def __init__(self, forward, parameters):
         self.n, self.k = len(forward.q), len(forward.wrt)
@@ -51,9 +51,6 @@ class ForwardSystem:
             return values[0], np.array([values[1] / values[0]])
         mass = np.array(values[:n * n], dtype=float).reshape(n, n)
         return mass, np.linalg.solve(mass, np.array(values[n * n:], dtype=float))
-
-    def accelerations(self, t_now, y, p) -> np.ndarray:
-        return self._solved(t_now, y, p)[1]
 
     def rhs(self, t_now, z, p) -> np.ndarray:
         n, k = self.n, self.k
