@@ -78,6 +78,14 @@ class Mechanism(declared.Mechanism):
         from mechdyn.simulate.simulation import simulate
         return simulate(self, scene, params or {}, **options)
 
+    def sensitivities(self, scene, params, wrt, measures=("t_end",), **options):
+        """Exact derivatives of ``measures`` with respect to the parameters ``wrt`` from
+        the forward sensitivity equations (a :class:`~mechdyn.analyse.sensitivity_result.
+        Sensitivities`); ``options``: ``cycle``, ``speed_guess`` of
+        :func:`mechdyn.analyse.sensitivities.sensitivities`."""
+        from mechdyn.analyse.sensitivities import sensitivities
+        return sensitivities(self, scene, params or {}, wrt, measures, **options)
+
     def linearize(self, scene=None, at=None, params=None, inputs=(), outputs=()):
         """State-space matrices A, B, C, D about an operating point ``at`` (a
         :class:`~mechdyn.derive.linear.StateSpace`; inputs: parameters, outputs:

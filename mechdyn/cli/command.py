@@ -67,6 +67,8 @@ def build_parser() -> argparse.ArgumentParser:
     add_linkage_command(commands)
     from mechdyn.cli.fmu import add_fmu_command
     add_fmu_command(commands)
+    from mechdyn.cli.design import add_design_commands
+    add_design_commands(commands)
     for command in commands.choices.values():
         command.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
                              help="show the traceback of an error")
