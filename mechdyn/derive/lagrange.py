@@ -19,13 +19,13 @@ For one coordinate it also gives the reduced inertia ``I_red = M_11``, the reduc
 """
 from __future__ import annotations
 
-import numpy as np
 import sympy as sp
 from mechdyn.declare.contract import checked_work, completed
 from mechdyn.declare.elements import Constraint, Link, is_structural
 from mechdyn.errors import DerivationError
 from mechdyn.symbols import dotted_symbol, t
 from mechdyn.derive.terms import (ConstraintTerm, ContactTerm, Equations, FrictionTerm, GearTerm)
+from mechdyn.derive.regularity import check_regular
 
 __all__ = ["derive", "element_works"]
 
@@ -101,7 +101,7 @@ def derive(mechanism, element_names=None, rigid=()) -> Equations:
                 "mass or moment of inertia moves with it (give a link m or J that moves "
                 "with it, or make its spring rigid in the scene)")
     if not constraints:     # with loops M need only be regular on the loops' motions
-        _check_regular(mass, q, mechanism.name)
+        check_regular(mass, q, mechanism.name)
     excluded = tuple(n for n, e in elements.items()
                      if not is_structural(e) and n not in element_names)
     return Equations(
@@ -218,77 +218,6 @@ def _diff(expr, x):
     if expr.is_Add:      # a sum of many terms (an energy): only the terms that hold x
         return sp.Add(*[sp.diff(term, x) for term in expr.args if x in term.free_symbols])
     return sp.diff(expr, x)
-
-
-def _check_regular(mass, q, name):
-    """Refuse a mass matrix that is singular everywhere (a combination of coordinates
-    that moves no inertia), tested at two random real configurations. A sample where
-    an entry is not a finite real number (a root of a negative number for those
-    parameter values) is no evidence: another is drawn, and with fewer than two real
-    samples in :data:`_SAMPLES` draws nothing is refused (the start of a run checks the
-    mass matrix at the given values: :func:`mechdyn.simulate.run_checks.check_mass`)."""
-    n = mass.shape[0]
-    if n < 2:
-        return
-    rng = np.random.default_rng(12345)
-    free = sorted(mass.free_symbols, key=str)
-    smallest = []
-    for _ in range(_SAMPLES):
-        values = {s: sp.Float(rng.uniform(-3, 3) if s in q else rng.uniform(0.5, 1.5))
-                  for s in free}
-        numeric = _real_matrix(mass, values)
-        if numeric is None:
-            continue
-        smallest.append(_smallest_singular(numeric))
-        if len(smallest) == 2:
-            break
-    if len(smallest) == 2 and all(ratio < 1e-12 for ratio, _ in smallest):
-        vector = smallest[0][1] / np.max(np.abs(smallest[0][1]))
-        combination = " + ".join(f"{c:.3g}*{qi}" for c, qi in zip(vector, q) if abs(c) > 1e-9)
-        raise DerivationError(
-            f"mechanism {name!r}: the mass matrix is singular: the motion "
-            f"{combination} moves no mass or inertia (coordinates that always move "
-            "together need one coordinate, or a link that moves with the difference)")
-
-
-_SAMPLES = 20           # draws for the two real samples of the regularity check
-
-
-def _smallest_singular(matrix) -> tuple:
-    """``(sigma_min / sigma_max, its right singular vector)`` of a mass matrix: from the
-    band's extreme eigenvalues where the matrix is symmetric, narrow and positive
-    semidefinite (O(n b^2): a chain of a thousand bodies in milliseconds), else by SVD.
-
-    >>> ratio, vector = _smallest_singular(np.array([[2.0, 1.0], [1.0, 0.5]]))
-    >>> float(round(ratio, 12)), np.round(np.abs(vector), 4).tolist()
-    (0.0, [0.4472, 0.8944])
-    """
-    n = len(matrix)
-    rows, columns = np.nonzero(matrix)
-    width = int(np.max(np.abs(rows - columns), initial=0))
-    if 4 * width < n and np.array_equal(matrix, matrix.T):
-        from scipy.linalg import eig_banded
-        band = np.zeros((width + 1, n))
-        for k in range(width + 1):
-            band[k, :n - k] = np.diagonal(matrix, -k)
-        low, vectors = eig_banded(band, lower=True, select="i", select_range=(0, 0))
-        high = eig_banded(band, lower=True, eigvals_only=True, select="i",
-                          select_range=(n - 1, n - 1))
-        if low[0] >= 0.0:
-            return low[0] / max(high[0], 1e-300), vectors[:, 0]
-    _, singular, vt = np.linalg.svd(matrix)
-    return singular[-1] / max(singular[0], 1e-300), vt[-1]
-
-
-def _real_matrix(mass, values):
-    """``mass`` at ``values`` as floats, or None where an entry is not finite and real."""
-    numeric = np.zeros(mass.shape)
-    for (i, j), entry in mass.todok().items():        # the non-zero entries
-        value = complex(sp.N(entry.xreplace(values)))
-        if not (np.isfinite(value) and abs(value.imag) <= 1e-12 * abs(value.real)):
-            return None
-        numeric[i, j] = value.real
-    return numeric
 
 
 def element_works(mechanism, names, rigid=()) -> dict:

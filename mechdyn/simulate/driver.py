@@ -125,9 +125,7 @@ class Driver:
                 elif outcome.status == "stiff":
                     before = method
                     method = self._after_stiffness(t, y, method, mode)
-                    # a switch after a short segment, or none where the eigenvalues
-                    # overrule the kernel's test: the next segment keeps its method
-                    # (hysteresis; resolved fast oscillations look stiff and not in turn)
+                    # after a short segment, or no switch: the next keeps its method
                     self._settle = method == before or self._segment_steps < _SETTLE_STEPS
                 elif outcome.status == "failed":
                     method, h = self._after_failure(t, y, mode, method, outcome.message), None
@@ -330,11 +328,8 @@ class Driver:
         return method
 
     def _after_stiffness(self, t, y, method, mode):
-        """The method after the kernel's stiffness test fired. An explicit method held at
-        its stability limit changes to the stiff one unless the eigenvalues there show no
-        stiff modes: fast oscillations that the tolerance asks to resolve, which the stiff
-        method steps over no faster and less accurately (issue 39's chain of stiff
-        shafts, rtol 1e-8: Rodas5P ended 10-18 tolerances off, DOP853 within one)."""
+        """The method after a stiffness test fired; an explicit method is kept where the
+        eigenvalues show only oscillations the tolerance asks to resolve (README)."""
         self.plan.forget()
         if self.plan.stiff(method):
             return self._switch(t, method, self.plan.method(explicit_for(self.scene.rtol),
