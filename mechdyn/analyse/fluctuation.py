@@ -43,7 +43,7 @@ the textbook ``Delta E_max = 2 A = 40 J`` gives ``40 / (0.01 * 110^2) = 0.3306``
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import sympy as sp
@@ -77,7 +77,8 @@ class SteadyRunning:
     Attributes: ``phi`` (grid over the cycle), ``omega`` and ``time`` on it, ``cycle``
     (rad), ``cycle_time`` (s), ``omega_mean`` (``cycle / cycle_time``), ``omega_max``,
     ``omega_min``, ``delta`` (coefficient of speed fluctuation), ``floquet`` (the cycle
-    map's multiplier), ``name`` (mechanism and scene).
+    map's multiplier), ``name`` (mechanism and scene); ``outputs_at(phi)`` the scene's
+    outputs over the cycle. ``repr`` is a one-line summary, ``summary()`` a few lines.
     """
     phi: np.ndarray
     omega: np.ndarray
@@ -88,6 +89,9 @@ class SteadyRunning:
     omega_min: float
     floquet: Floquet
     name: str
+    compiled: object = field(default=None, repr=False, compare=False)
+    p: list = field(default=None, repr=False, compare=False)
+    dense: object = field(default=None, repr=False, compare=False)   # phi -> [omega, t, v]
 
     @property
     def omega_mean(self) -> float:
@@ -101,6 +105,25 @@ class SteadyRunning:
     def initial(self) -> tuple:
         """``(phi0, omega0)``: the periodic state at the start of the cycle."""
         return float(self.phi[0]), float(self.omega[0])
+
+    @property
+    def steps(self) -> np.ndarray:
+        """The angles of the integrator's steps over the cycle (the dense output's
+        pieces join there)."""
+        return np.asarray(self.dense.ts, dtype=float)
+
+    def outputs_at(self, phi) -> dict:
+        """The scene's outputs (label -> array) at the angles ``phi`` of the cycle."""
+        phi = np.atleast_1d(np.asarray(phi, dtype=float))
+        states = self.dense(phi)
+        values = np.array([self.compiled.outputs(states[1][j], (x, states[0][j]), self.p)
+                           for j, x in enumerate(phi)]).reshape(len(phi), -1)
+        return {label: values[:, k] for k, label in enumerate(self.compiled.output_labels)}
+
+    def __repr__(self):
+        return (f"<SteadyRunning {self.name}: omega_mean = {self.omega_mean:.6g} rad/s, "
+                f"delta = {self.delta:.6g}, cycle {self.cycle:.6g} rad in "
+                f"{self.cycle_time:.6g} s>")
 
     def summary(self) -> str:
         phi0, omega0 = self.initial
@@ -234,7 +257,7 @@ def steady_running(mechanism, scene, params, cycle=2 * math.pi, *,
     return SteadyRunning(phi, states[0], states[1], cycle, float(cycle_time), high, low,
                          Floquet.of([[v]], cycle_time, tolerance, over=f"one cycle "
                                     f"({cycle:.6g} rad)"),
-                         f"{eqs.name} — scene {scene.name!r}")
+                         f"{eqs.name} — scene {scene.name!r}", compiled, p, sol.sol)
 
 
 def _start(compiled, mechanism, scene, params, speed_guess):
@@ -244,7 +267,7 @@ def _start(compiled, mechanism, scene, params, speed_guess):
     if not omega0 > 0:
         raise PeriodicError(f"scene {scene.name!r}: the first guess of the steady speed is "
                             f"{omega0:.6g} rad/s; give a positive initial speed near the "
-                            "steady one (or speed_guess=)")
+                            "steady one (or speed_guess=; mechdyn periodic --speed-guess)")
     return float(y0[0]), float(omega0)
 
 
@@ -275,6 +298,10 @@ class Flywheel:
     energy_swing: float
     textbook: float
     own_inertia: float
+
+    def __repr__(self):
+        return (f"<Flywheel {self.parameter} = {self.inertia:.6g} for delta = "
+                f"{self.target:.6g} (textbook {self.textbook:.6g})>")
 
     def summary(self) -> str:
         return "\n".join([
