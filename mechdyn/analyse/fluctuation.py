@@ -312,7 +312,8 @@ class Flywheel:
             f"{self.running.omega_mean:.6g} rad/s, own mean I_red {self.own_inertia:.6g})"])
 
 
-def flywheel(mechanism, scene, params, delta, inertia, cycle=2 * math.pi) -> Flywheel:
+def flywheel(mechanism, scene, params, delta, inertia, cycle=2 * math.pi, *,
+             speed_guess=None) -> Flywheel:
     """The value of the flywheel parameter ``inertia`` that brings the coefficient of
     speed fluctuation to ``delta``, and the textbook estimate.
 
@@ -325,6 +326,8 @@ def flywheel(mechanism, scene, params, delta, inertia, cycle=2 * math.pi) -> Fly
     inertia : sympy.Symbol
         A parameter entering ``I_red`` linearly with a constant positive coefficient
         (a flywheel's moment of inertia on the crank or a geared shaft).
+    speed_guess : float, optional
+        As for :func:`steady_running`: the first guess of the first steady speed.
 
     Returns
     -------
@@ -353,7 +356,7 @@ def flywheel(mechanism, scene, params, delta, inertia, cycle=2 * math.pi) -> Fly
                             f"{eqs.reduced_inertia} linearly with a constant positive "
                             f"coefficient (it enters as {sp.diff(eqs.reduced_inertia, inertia)})")
     coefficient = float(coefficient)
-    guess = {"speed": None}
+    guess = {"speed": speed_guess}
 
     def running_with(value):
         result = steady_running(mechanism, scene, params | {key: value}, cycle,
