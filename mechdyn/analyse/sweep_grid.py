@@ -70,7 +70,9 @@ class Plan:
 
     def columns(self, names) -> list:
         columns = list(names) + [m.name for m in self.measures]
-        columns += [] if self.cycle is not None else ["reason"]
+        if self.cycle is None:       # a run's reason: after t_end (where it was), or last
+            columns.insert(columns.index("t_end") + 1 if "t_end" in columns[len(names):]
+                           else len(columns), "reason")
         clash = set(names) & set(columns[len(names):] + ["error"])
         if clash:
             raise ParameterError(f"sweep: parameter {sorted(clash)} clashes with a result "
