@@ -22,9 +22,10 @@ measure            of a run                              of a steady cycle (peri
 =================  ====================================  ============================
 
 ``energy:NAME`` integrates the scene's output ``power:NAME`` (record it:
-``outputs=[..., "power:motor"]``); integrals use 4-point Gauss-Legendre on every step
-of the integrator's dense output (a steady cycle's steps in the crank angle, with
-``dt = dphi / omega``).
+``outputs=[..., "power:motor"]``); integrals use 4-point Gauss-Legendre on the
+integrator's dense output, on its steps cut into 1/512 of the span or less and
+coordinate changes of 0.05 (rad or m) or less (a steady cycle's steps in the crank
+angle, with ``dt = dphi / omega``).
 
 >>> import sympy as sp, mechdyn as md
 >>> phi = md.coordinate("phi")
@@ -71,6 +72,7 @@ _KINDS = {
     "stop_angle": ("optional", "run", None),
     "final": ("needed", "run", None),
 }
+_PIECES, _TRAVEL = 512, 0.05   # quadrature: pieces of a span, at least; coordinate change
 _WHAT = {"peak": "OUTPUT", "rms": "OUTPUT", "energy": "ELEMENT", "final": "STATE"}
 MEASURES = tuple(f"{k}:{_WHAT[k]}" if k in _WHAT else k for k in _KINDS)
 STEADY_MEASURES = tuple(k for k, (_, of, _) in _KINDS.items() if of == "steady")
@@ -326,22 +328,31 @@ def _power_label(outcome, element, name) -> str:
 
 def _integral(label, name, outcome, square=False) -> tuple:
     """``(integral of the output over the span in time, the span's duration)``: 4-point
-    Gauss-Legendre on every step of the dense output (a steady cycle in the angle,
-    ``dt = dphi / omega``)."""
+    Gauss-Legendre on every step of the dense output, cut into ``_PIECES`` of the span
+    or less and coordinate changes of at most ``_TRAVEL`` (a steady cycle in the
+    angle, ``dt = dphi / omega``)."""
     kind, source = _outcome(outcome, name)
     label = _label(source.compiled, label, name)
-    x, w = np.polynomial.legendre.leggauss(4)
-    steps = source.steps if kind == "steady" else source.t
+    if kind == "steady":
+        steps, travel = source.steps, np.abs(np.diff(source.steps))
+        span = source.cycle_time
+    else:
+        steps, span = source.t, float(source.t[-1] - source.t[0])
+        n = source.compiled.dof
+        travel = np.max(np.abs(np.diff(source.y[:n], axis=1)), axis=0, initial=0.0)
+    if not span > 0:
+        raise MeasureError(f"{name}: the outcome spans no time")
     h = np.diff(steps)
-    nodes = (steps[:-1, None] + (x[None, :] + 1) / 2 * h[:, None]).ravel()
-    values = (source.outputs_at(nodes) if len(nodes) else {label: np.zeros(0)})[label]
+    pieces = np.maximum(np.ceil(np.maximum(np.abs(h) * _PIECES / abs(steps[-1] - steps[0]),
+                                           travel / _TRAVEL)), 1).astype(int)
+    starts = np.concatenate([a + (b - a) * np.arange(k) / k
+                             for a, b, k in zip(steps[:-1], steps[1:], pieces)])
+    widths = np.repeat(h / pieces, pieces)
+    x, w = np.polynomial.legendre.leggauss(4)
+    nodes = (starts[:, None] + (x[None, :] + 1) / 2 * widths[:, None]).ravel()
+    values = source.outputs_at(nodes)[label] if len(nodes) else np.zeros(0)
     if square:
         values = values ** 2
     if kind == "steady":
         values = values / source.dense(nodes)[0]
-        span = source.cycle_time
-    else:
-        span = float(source.t[-1] - source.t[0])
-    if not span > 0:
-        raise MeasureError(f"{name}: the outcome spans no time")
-    return float(np.sum(values.reshape(-1, 4) @ w * h / 2)), span
+    return float(np.sum(values.reshape(-1, 4) @ w * widths / 2)), span
