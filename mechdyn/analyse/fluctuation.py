@@ -178,14 +178,19 @@ def _check(mechanism, scene, params):
     return eqs, values
 
 
-def _cycle_map(compiled, p, phi0, cycle, omega0, dense=False):
-    """Integrate one cycle in phi: ``(omega(end), v(end), time(end), solution)``."""
+def _cycle_map(compiled, p, phi0, cycle, omega0):
+    """Integrate one cycle in phi: ``(omega(end), v(end), time(end), solution)`` (with
+    its dense output)."""
+    rhs, jac = compiled.raw["rhs"], compiled.raw["jac"]
+    rates, slopes = [0.0, 0.0], np.zeros((2, 2))        # the generated code's outputs
+
     def fun(phi, z):
-        omega, _, v = z
-        y = (phi, omega)
-        a = compiled.rhs(0.0, y, p)[1]
-        a_omega = compiled.jac(0.0, y, p)[1][1]
-        return [a / omega, 1 / omega, (a_omega / omega - a / omega ** 2) * v]
+        omega, v = float(z[0]), float(z[2])
+        y = [float(phi), omega]
+        rhs(0.0, y, p, rates)
+        jac(0.0, y, p, slopes)
+        a = rates[1]
+        return [a / omega, 1 / omega, (float(slopes[1, 1]) / omega - a / omega ** 2) * v]
 
     def stall(phi, z):
         return z[0] - 1e-9 * omega0
@@ -193,7 +198,7 @@ def _cycle_map(compiled, p, phi0, cycle, omega0, dense=False):
     try:
         sol = solve_ivp(fun, (phi0, phi0 + cycle), [omega0, 0.0, 1.0], method="DOP853",
                         rtol=_RTOL, atol=_ATOL * max(1.0, omega0), events=stall,
-                        dense_output=dense)
+                        dense_output=True)
     except (ArithmeticError, ValueError) as error:
         raise PeriodicError(f"integration over one cycle failed: {type(error).__name__}: "
                             f"{error}") from error
@@ -235,7 +240,7 @@ def steady_running(mechanism, scene, params, cycle=2 * math.pi, *,
     phi0, omega0 = _start(compiled, mechanism, scene, values.numbers, speed_guess)
     tolerance = 1e3 * _RTOL
     for _ in range(_MAX_NEWTON):
-        omega, v, _, _ = _cycle_map(compiled, p, phi0, cycle, omega0)
+        omega, v, cycle_time, sol = _cycle_map(compiled, p, phi0, cycle, omega0)
         residual = omega - omega0
         if abs(residual) <= 100 * _RTOL * omega0:
             break
@@ -249,7 +254,6 @@ def steady_running(mechanism, scene, params, cycle=2 * math.pi, *,
     else:
         raise PeriodicError(f"scene {scene.name!r}: no steady running found in "
                             f"{_MAX_NEWTON} Newton steps (last speed {omega0:.6g} rad/s)")
-    _, v, cycle_time, sol = _cycle_map(compiled, p, phi0, cycle, omega0, dense=True)
     phi = np.linspace(phi0, phi0 + cycle, _POINTS)
     states = sol.sol(phi)
     high = _extreme(sol, phi, states[0], -1)
