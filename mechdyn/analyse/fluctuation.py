@@ -108,8 +108,7 @@ class SteadyRunning:
 
     @property
     def steps(self) -> np.ndarray:
-        """The angles of the integrator's steps over the cycle (the dense output's
-        pieces join there)."""
+        """The angles of the integrator's steps over the cycle."""
         return np.asarray(self.dense.ts, dtype=float)
 
     def outputs_at(self, phi) -> dict:
@@ -178,18 +177,29 @@ def _check(mechanism, scene, params):
     return eqs, values
 
 
-def _cycle_map(compiled, p, phi0, cycle, omega0):
-    """Integrate one cycle in phi: ``(omega(end), v(end), time(end), solution)`` (with
-    its dense output)."""
-    rhs, jac = compiled.raw["rhs"], compiled.raw["jac"]
-    rates, slopes = [0.0, 0.0], np.zeros((2, 2))        # the generated code's outputs
+def _generated(compiled, scene, p) -> tuple:
+    """``(rhs, jac, p, y, rates)`` of the cycle map: numba's (on arrays) where the scene
+    runs on the compiled kernels and has a compiled Jacobian, else Python's (on lists)."""
+    if scene.backend != "scipy":
+        from mechdyn.compile.numba_model import numba_functions
+        functions = numba_functions(compiled, jac=True)
+        if functions is not None and functions.has_jac:
+            return (functions.rhs, functions.jac, np.asarray(p, dtype=float), np.zeros(2),
+                    np.zeros(2))
+    return compiled.raw["rhs"], compiled.raw["jac"], p, [0.0, 0.0], [0.0, 0.0]
+
+
+def _cycle_map(generated, phi0, cycle, omega0):
+    """One cycle in phi: ``(omega(end), v(end), time(end), dense solution)``."""
+    rhs, jac, p, y, rates = generated
+    slopes = np.zeros((2, 2))
 
     def fun(phi, z):
         omega, v = float(z[0]), float(z[2])
-        y = [float(phi), omega]
+        y[0], y[1] = float(phi), omega
         rhs(0.0, y, p, rates)
         jac(0.0, y, p, slopes)
-        a = rates[1]
+        a = float(rates[1])
         return [a / omega, 1 / omega, (float(slopes[1, 1]) / omega - a / omega ** 2) * v]
 
     def stall(phi, z):
@@ -238,9 +248,10 @@ def steady_running(mechanism, scene, params, cycle=2 * math.pi, *,
     compiled = compile_scene(mechanism, scene)
     p = compiled.parameter_vector(values)
     phi0, omega0 = _start(compiled, mechanism, scene, values.numbers, speed_guess)
+    generated = _generated(compiled, scene, p)
     tolerance = 1e3 * _RTOL
     for _ in range(_MAX_NEWTON):
-        omega, v, cycle_time, sol = _cycle_map(compiled, p, phi0, cycle, omega0)
+        omega, v, cycle_time, sol = _cycle_map(generated, phi0, cycle, omega0)
         residual = omega - omega0
         if abs(residual) <= 100 * _RTOL * omega0:
             break
