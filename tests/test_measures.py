@@ -313,3 +313,29 @@ def test_cli_periodic_sizes_the_flywheel_and_takes_a_speed_guess(capsys, press):
     status, _, err = run(capsys, "periodic", PRESS, "--scene", "steady", "--flywheel-for",
                          "0.02")
     assert status != 0 and "--inertia NAME" in err
+
+
+@pytest.mark.parametrize("backend", ["auto", "scipy"])
+def test_steady_running_on_either_backend_and_a_stall_named(backend):
+    """The cycle map on the compiled kernels and on scipy: the linearised closed form
+    delta = 2 A / (w sqrt((J w)^2 + b^2)), A = 20, b = 400/110, w = 110, J = 2 (second
+    order in the fluctuation: 1e-4 relative); both agree to the integration tolerance.
+    A motor of 5 N m cannot pull 50 cos(phi) through the cycle from 1 rad/s: it stalls
+    (kinetic energy 1 + 5 pi/2 + 50 at pi/2, then the half turn takes 100 - 5 pi)."""
+    machine, scene, params = shunt_machine()
+    on = dataclasses.replace(scene, backend=backend)
+    running = md.steady_running(machine, on, params)
+    linear = 2 * 20 / (110 * math.sqrt((2 * 110) ** 2 + (400 / 110) ** 2))
+    assert running.delta == pytest.approx(linear, rel=1e-4)
+    other = md.steady_running(machine, dataclasses.replace(
+        scene, backend="scipy" if backend == "auto" else "auto"), params)
+    assert running.delta == pytest.approx(other.delta, rel=1e-7)
+    assert running.omega_mean == pytest.approx(other.omega_mean, rel=1e-10)
+    phi = machine.coordinates[0]
+    weak = md.Mechanism("weak machine", [phi])
+    weak.link("crank", J=2, angle=phi)
+    weak.load("motor", md.motors.dc_shunt(5, 110)(md.speed(phi)), along=phi)
+    weak.load("process", 50 * sp.cos(phi), along=phi)
+    with pytest.raises(md.PeriodicError, match="stalls at phi = "):
+        md.steady_running(weak, dataclasses.replace(on, outputs=()), {},
+                          speed_guess=1.0)

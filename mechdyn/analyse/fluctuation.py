@@ -11,7 +11,9 @@ With the crank angle as the independent variable the equation of motion
 (``a`` the angular acceleration from the compiled equations). Shooting finds
 ``omega0``: Newton's method on ``omega(phi0 + Phi) - omega0``, its derivative ``v`` from
 the variational equation ``dv/dphi = d(a/omega)/domega v`` (analytic Jacobian). ``v``
-over one cycle is the Floquet multiplier of the cycle map: ``|v| < 1`` stable.
+over one cycle is the Floquet multiplier of the cycle map: ``|v| < 1`` stable. One
+cycle is integrated by :mod:`mechdyn.analyse.cycle_map` (on the compiled kernels where
+the scene runs there, as ``simulate`` does).
 
 Mean speed ``omega_mean = Phi / t_cycle`` (time average), coefficient of speed
 fluctuation ``delta = (omega_max - omega_min) / omega_mean``. :func:`flywheel` solves
@@ -47,18 +49,18 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import sympy as sp
-from scipy.integrate import cumulative_trapezoid, solve_ivp, trapezoid
+from scipy.integrate import cumulative_trapezoid, trapezoid
 from scipy.optimize import brentq, minimize_scalar
 
 from mechdyn.compile.compiler import compile_scene
 from mechdyn.errors import SceneError
 from mechdyn.declare.parameters import ParameterSet, missing_values
 from mechdyn.analyse.shooting import Floquet, PeriodicError
+from mechdyn.analyse.cycle_map import RTOL as _RTOL, CycleMap
 from mechdyn.symbols import t
 
 __all__ = ["SteadyRunning", "Flywheel", "steady_running", "flywheel", "applies"]
 
-_RTOL, _ATOL = 1e-10, 1e-12
 _MAX_NEWTON = 40
 _POINTS = 4001
 
@@ -177,51 +179,6 @@ def _check(mechanism, scene, params):
     return eqs, values
 
 
-def _generated(compiled, scene, p) -> tuple:
-    """``(rhs, jac, p, y, rates)`` of the cycle map: numba's (on arrays) where the scene
-    runs on the compiled kernels and has a compiled Jacobian, else Python's (on lists)."""
-    if scene.backend != "scipy":
-        from mechdyn.compile.numba_model import numba_functions
-        functions = numba_functions(compiled, jac=True)
-        if functions is not None and functions.has_jac:
-            return (functions.rhs, functions.jac, np.asarray(p, dtype=float), np.zeros(2),
-                    np.zeros(2))
-    return compiled.raw["rhs"], compiled.raw["jac"], p, [0.0, 0.0], [0.0, 0.0]
-
-
-def _cycle_map(generated, phi0, cycle, omega0):
-    """One cycle in phi: ``(omega(end), v(end), time(end), dense solution)``."""
-    rhs, jac, p, y, rates = generated
-    slopes = np.zeros((2, 2))
-
-    def fun(phi, z):
-        omega, v = float(z[0]), float(z[2])
-        y[0], y[1] = float(phi), omega
-        rhs(0.0, y, p, rates)
-        jac(0.0, y, p, slopes)
-        a = float(rates[1])
-        return [a / omega, 1 / omega, (float(slopes[1, 1]) / omega - a / omega ** 2) * v]
-
-    def stall(phi, z):
-        return z[0] - 1e-9 * omega0
-    stall.terminal = True
-    try:
-        sol = solve_ivp(fun, (phi0, phi0 + cycle), [omega0, 0.0, 1.0], method="DOP853",
-                        rtol=_RTOL, atol=_ATOL * max(1.0, omega0), events=stall,
-                        dense_output=True)
-    except (ArithmeticError, ValueError) as error:
-        raise PeriodicError(f"integration over one cycle failed: {type(error).__name__}: "
-                            f"{error}") from error
-    if sol.status == 1:
-        raise PeriodicError(f"the machine stalls at phi = {sol.t_events[0][0]:.6g} rad "
-                            f"(starting the cycle at omega = {omega0:.6g} rad/s): the driving "
-                            "moment cannot pull it through the cycle")
-    if sol.status != 0:
-        raise PeriodicError(f"integration over one cycle failed: {sol.message}")
-    omega, time, v = sol.y[:, -1]
-    return omega, v, time, sol
-
-
 def steady_running(mechanism, scene, params, cycle=2 * math.pi, *,
                    speed_guess=None) -> SteadyRunning:
     """The periodic speed ``omega(phi)`` of a one-DOF machine over one cycle.
@@ -248,10 +205,10 @@ def steady_running(mechanism, scene, params, cycle=2 * math.pi, *,
     compiled = compile_scene(mechanism, scene)
     p = compiled.parameter_vector(values)
     phi0, omega0 = _start(compiled, mechanism, scene, values.numbers, speed_guess)
-    generated = _generated(compiled, scene, p)
+    cycle_map = CycleMap(compiled, scene, p)
     tolerance = 1e3 * _RTOL
     for _ in range(_MAX_NEWTON):
-        omega, v, cycle_time, sol = _cycle_map(generated, phi0, cycle, omega0)
+        omega, v, cycle_time, dense = cycle_map(phi0, cycle, omega0)
         residual = omega - omega0
         if abs(residual) <= 100 * _RTOL * omega0:
             break
@@ -266,13 +223,13 @@ def steady_running(mechanism, scene, params, cycle=2 * math.pi, *,
         raise PeriodicError(f"scene {scene.name!r}: no steady running found in "
                             f"{_MAX_NEWTON} Newton steps (last speed {omega0:.6g} rad/s)")
     phi = np.linspace(phi0, phi0 + cycle, _POINTS)
-    states = sol.sol(phi)
-    high = _extreme(sol, phi, states[0], -1)
-    low = _extreme(sol, phi, states[0], 1)
+    states = dense(phi)
+    high = _extreme(dense, phi, states[0], -1)
+    low = _extreme(dense, phi, states[0], 1)
     return SteadyRunning(phi, states[0], states[1], cycle, float(cycle_time), high, low,
                          Floquet.of([[v]], cycle_time, tolerance, over=f"one cycle "
                                     f"({cycle:.6g} rad)"),
-                         f"{eqs.name} — scene {scene.name!r}", compiled, p, sol.sol)
+                         f"{eqs.name} — scene {scene.name!r}", compiled, p, dense)
 
 
 def _start(compiled, mechanism, scene, params, speed_guess):
@@ -286,11 +243,11 @@ def _start(compiled, mechanism, scene, params, speed_guess):
     return float(y0[0]), float(omega0)
 
 
-def _extreme(sol, grid, values, sign):
+def _extreme(dense, grid, values, sign):
     """The minimum of ``sign * omega`` on the dense output, polished near the grid's."""
     k = int(np.argmin(sign * values))
     lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, len(grid) - 1)]
-    best = minimize_scalar(lambda x: sign * sol.sol(x)[0], bounds=(lo, hi), method="bounded",
+    best = minimize_scalar(lambda x: sign * dense(x)[0], bounds=(lo, hi), method="bounded",
                            options={"xatol": 1e-12 * max(1.0, abs(hi))})
     return float(min(sign * values[k], best.fun) * sign)
 
