@@ -339,3 +339,18 @@ def test_steady_running_on_either_backend_and_a_stall_named(backend):
     with pytest.raises(md.PeriodicError, match="stalls at phi = "):
         md.steady_running(weak, dataclasses.replace(on, outputs=()), {},
                           speed_guess=1.0)
+
+
+def test_a_measure_that_fails_at_a_point_keeps_the_points_other_measures():
+    """A brake bounded at 30 s: P = 10 N stops at 100 s, so it has no stop angle (NaN,
+    the error named in the row) but its t_end, 30 s, is kept; P = 40 N stops at 25 s."""
+    brake = md.load_model(BRAKE)
+    scene = dataclasses.replace(brake.scenes["braking"], t_end=30)
+    table = md.sweep(brake.mechanism, scene, brake.params, {"P": [10.0, 40.0]},
+                     progress=False, measures=["stop_angle", "t_end"])
+    short, full = table.rows
+    assert math.isnan(short["stop_angle"]) and short["t_end"] == 30.0
+    assert short["error"].startswith("stop_angle: MeasureError: stop_angle: the run did not "
+                                     "stop at a stop condition")
+    assert full["error"] == "" and full["stop_angle"] == pytest.approx(1250.0, rel=1e-9)
+    assert table.failed == [short]
