@@ -295,6 +295,13 @@ def test_cli_sweep_measures_write_the_values_of_steady_running(capsys, tmp_path,
     status, _, err = run(capsys, "sweep", PRESS, "--scene", "steady", "--grid", "J_f=1",
                          "--measure", "fluctuaton")
     assert status == 2 and "did you mean fluctuation?" in err
+    status, text, err = run(capsys, "sweep", PRESS, "--scene", "steady", "--grid", "J_f=1")
+    assert status == 0 and "--steady or --measure fluctuation sweeps its steady running" in err
+    status, text, _ = run(capsys, "sweep", PRESS, "--scene", "steady", "--grid", "J_f=1,2",
+                          "--steady")
+    header = text.splitlines()[0].split()
+    assert status == 0 and header[:5] == ["J_f", "[kg*m^2]", "mean_speed", "[rad/s]",
+                                          "fluctuation"]
 
 
 def test_cli_periodic_sizes_the_flywheel_and_takes_a_speed_guess(capsys, press):

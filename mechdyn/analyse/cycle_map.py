@@ -53,7 +53,7 @@ class CycleMap:
             coefs.append(chunk.coefs)
             if chunk.status != CHUNK_FULL:
                 break
-        if chunk.status == EVENT or run.y[0] < _SLOW * omega0:
+        if chunk.status == EVENT or (chunk.status != FINISHED and run.y[0] < _SLOW * omega0):
             _stalled(run.t, omega0)
         if chunk.status != FINISHED:
             raise PeriodicError(f"integration over one cycle failed at phi = {run.t:.6g} rad: "
