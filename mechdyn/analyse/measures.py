@@ -7,19 +7,19 @@ outcome (:class:`Measure`). The outcome decides the span: a :class:`~mechdyn.Res
 (``simulate``) is measured over the run, a :class:`~mechdyn.SteadyRunning` (or a
 ``Flywheel``'s) over its cycle, a :class:`~mechdyn.PeriodicSolution` over its period.
 
-=================  ====================================  ============================
+=================  ====================================  ==============================
 measure            of a run                              of a steady cycle (period)
-=================  ====================================  ============================
+=================  ====================================  ==============================
 ``mean_speed``     --                                    ``cycle / cycle_time`` (rad/s)
 ``fluctuation``    --                                    ``delta`` (1)
 ``cycle_time``     --                                    the cycle's time (s)
-``peak:OUTPUT``    largest magnitude (``Result.peak``)   over the cycle
+``peak:OUTPUT``    value of largest magnitude            over the cycle
 ``rms:OUTPUT``     ``sqrt(integral f^2 dt / duration)``  over the cycle
 ``energy:NAME``    work of element NAME (J)              per cycle
 ``t_end``          when it ended (s)                     --
 ``stop_angle``     coordinate travelled, to a stop       --
 ``final:KEY``      last value of a state or output       --
-=================  ====================================  ============================
+=================  ====================================  ==============================
 
 ``energy:NAME`` integrates the scene's output ``power:NAME`` (record it:
 ``outputs=[..., "power:motor"]``); integrals use 4-point Gauss-Legendre on the
@@ -47,6 +47,7 @@ from __future__ import annotations
 
 import hashlib
 import marshal
+import weakref
 from functools import partial
 
 import numpy as np
@@ -270,22 +271,45 @@ def _stop_angle(coordinate, name, outcome):
 
 
 def _peak(label, name, outcome):
+    """The value of largest magnitude on the grid (a run: its steps and 1001 even times;
+    a cycle: its 4001 angles), refined between the best point's neighbours."""
     kind, source = _outcome(outcome, name)
-    if kind != "steady":
-        _label(source.compiled, label, name)
-        return source.peak(label)[1]
     label = _label(source.compiled, label, name)
-
-    def values(x):
-        return source.outputs_at(x)[label]
-    sampled = np.abs(values(source.phi))
+    grid, every = _sampled(kind, source)
+    if not len(grid):
+        return float("nan")
+    sampled = np.abs(every[label])
     best = int(np.argmax(np.where(np.isfinite(sampled), sampled, -1.0)))
-    low, high = source.phi[max(best - 1, 0)], source.phi[min(best + 1, len(source.phi) - 1)]
+    low, high = grid[max(best - 1, 0)], grid[min(best + 1, len(grid) - 1)]
+    if not high > low:
+        return float(every[label][best])
     from scipy.optimize import minimize_scalar
-    found = minimize_scalar(lambda x: -abs(float(values(x)[0])), bounds=(low, high),
-                            method="bounded", options={"xatol": 1e-12 * max(1.0, abs(high))})
-    at = found.x if -found.fun > sampled[best] else source.phi[best]
-    return float(values(at)[0])
+    found = minimize_scalar(lambda x: -abs(float(source.outputs_at(x)[label][0])),
+                            bounds=(low, high), method="bounded",
+                            options={"xatol": 1e-12 * max(1.0, abs(high))})
+    if -found.fun > sampled[best]:
+        return float(source.outputs_at(found.x)[label][0])
+    return float(every[label][best])
+
+
+_last = (None, None, None)      # (weak reference to an outcome, its grid, its outputs there)
+
+
+def _sampled(kind, source) -> tuple:
+    """The peak's grid of ``source`` and every output on it; kept for the last outcome
+    (a sweep's peaks of one point share it)."""
+    global _last
+    ref, grid, every = _last
+    if ref is not None and ref() is source:
+        return grid, every
+    if kind == "steady":
+        grid = source.phi
+    else:
+        grid = source.t if len(source.t) < 2 else np.union1d(
+            np.linspace(source.t[0], source.t[-1], 1001), source.t)
+    every = source.outputs_at(grid)
+    _last = (weakref.ref(source), grid, every)       # one assignment: thread-safe
+    return grid, every
 
 
 def _rms(label, name, outcome):
