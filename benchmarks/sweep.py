@@ -5,8 +5,8 @@
 Per scene, the same grid of one parameter is run
 
 * by a plain loop: ``mech.simulate(scene, {**params, name: value})`` for every value;
-* by the same loop that also finds each output's peak as the sweep does (the outputs on
-  the step points and 1001 even times, ``result.outputs_at``), for scenes with outputs;
+* by the same loop that also finds each output's peak as the sweep does
+  (the ``peak:OUTPUT`` measure), for scenes with outputs;
 * by ``md.sweep(..., workers=1)``: one local worker process (started, sent the job once,
   ended: all inside the time), rows collected in the parent;
 * the same with ``out=`` a CSV file (locked, recorded, each row written and flushed);
@@ -41,9 +41,8 @@ CASES = [("shoe_brake", "braking", "P", (10.0, 100.0)),
 
 
 def peaks(result):
-    """Each output's value of largest magnitude on the step points and 1001 even times."""
-    times = np.union1d(np.linspace(result.t[0], result.t[-1], 1001), result.t)
-    return {k: v[np.argmax(np.abs(v))] for k, v in result.outputs_at(times).items()}
+    """Each output's value of largest magnitude (the sweep's ``peak:OUTPUT`` measure)."""
+    return {label: md.measure(f"peak:{label}")(result) for label in result.output_labels}
 
 
 def measure(model_name, scene_name, name, bounds, points, repeats):

@@ -36,6 +36,7 @@ _LAZY = {
     "linearize": "derive.linear", "StateSpace": "derive.linear",
     "Result": "simulate.result", "Event": "simulate.events",
     "sweep": "analyse.sweeps", "Sweep": "analyse.sweeps",
+    **dict.fromkeys(["measure", "Measure", "MeasureError"], "analyse.measures"),
     **dict.fromkeys(["periodic_steady_state", "floquet", "PeriodicSolution"],
                     "analyse.periodic"),
     **dict.fromkeys(["forcing_period", "Floquet", "PeriodicError", "NoPeriodicSolutionError"],

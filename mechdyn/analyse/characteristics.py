@@ -83,6 +83,10 @@ class Characteristic:
     points: list
     notes: tuple = ()
 
+    def __repr__(self):
+        return (f"<Characteristic {self.name!r}: {len(self.points)} operating point(s) over "
+                f"{len(self.speeds)} speeds>")
+
     def summary(self, units=None) -> str:
         """The operating points in words (``units``: e.g. ``{"speed": "rpm"}``)."""
         from mechdyn.display import Display

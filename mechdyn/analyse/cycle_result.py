@@ -233,6 +233,10 @@ class CycleResult(SeriesResult):
                            title=f"{self.mechanism_name} — duty cycle {self.name} "
                            f"({self.reason})")
 
+    def __repr__(self):
+        return (f"<CycleResult {self.mechanism_name!r} / {self.name}: t_end = "
+                f"{self.t_end:.6g} s, {len(self.phases)} phases, {self.reason}>")
+
     def summary(self, units=None) -> str:
         """Per phase: time span and why it ended, each coordinate's travel, speed at
         start and end and peak, each output's peak and end value, the energy (T, V and

@@ -11,7 +11,9 @@ With the crank angle as the independent variable the equation of motion
 (``a`` the angular acceleration from the compiled equations). Shooting finds
 ``omega0``: Newton's method on ``omega(phi0 + Phi) - omega0``, its derivative ``v`` from
 the variational equation ``dv/dphi = d(a/omega)/domega v`` (analytic Jacobian). ``v``
-over one cycle is the Floquet multiplier of the cycle map: ``|v| < 1`` stable.
+over one cycle is the Floquet multiplier of the cycle map: ``|v| < 1`` stable. One
+cycle is integrated by :mod:`mechdyn.analyse.cycle_map` (on the compiled kernels where
+the scene runs there, as ``simulate`` does).
 
 Mean speed ``omega_mean = Phi / t_cycle`` (time average), coefficient of speed
 fluctuation ``delta = (omega_max - omega_min) / omega_mean``. :func:`flywheel` solves
@@ -43,22 +45,22 @@ the textbook ``Delta E_max = 2 A = 40 J`` gives ``40 / (0.01 * 110^2) = 0.3306``
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import sympy as sp
-from scipy.integrate import cumulative_trapezoid, solve_ivp, trapezoid
+from scipy.integrate import cumulative_trapezoid, trapezoid
 from scipy.optimize import brentq, minimize_scalar
 
 from mechdyn.compile.compiler import compile_scene
 from mechdyn.errors import SceneError
 from mechdyn.declare.parameters import ParameterSet, missing_values
 from mechdyn.analyse.shooting import Floquet, PeriodicError
+from mechdyn.analyse.cycle_map import RTOL as _RTOL, CycleMap
 from mechdyn.symbols import t
 
 __all__ = ["SteadyRunning", "Flywheel", "steady_running", "flywheel", "applies"]
 
-_RTOL, _ATOL = 1e-10, 1e-12
 _MAX_NEWTON = 40
 _POINTS = 4001
 
@@ -77,7 +79,8 @@ class SteadyRunning:
     Attributes: ``phi`` (grid over the cycle), ``omega`` and ``time`` on it, ``cycle``
     (rad), ``cycle_time`` (s), ``omega_mean`` (``cycle / cycle_time``), ``omega_max``,
     ``omega_min``, ``delta`` (coefficient of speed fluctuation), ``floquet`` (the cycle
-    map's multiplier), ``name`` (mechanism and scene).
+    map's multiplier), ``name`` (mechanism and scene); ``outputs_at(phi)`` the scene's
+    outputs over the cycle. ``repr`` is a one-line summary, ``summary()`` a few lines.
     """
     phi: np.ndarray
     omega: np.ndarray
@@ -88,6 +91,9 @@ class SteadyRunning:
     omega_min: float
     floquet: Floquet
     name: str
+    compiled: object = field(default=None, repr=False, compare=False)
+    p: list = field(default=None, repr=False, compare=False)
+    dense: object = field(default=None, repr=False, compare=False)   # phi -> [omega, t, v]
 
     @property
     def omega_mean(self) -> float:
@@ -101,6 +107,24 @@ class SteadyRunning:
     def initial(self) -> tuple:
         """``(phi0, omega0)``: the periodic state at the start of the cycle."""
         return float(self.phi[0]), float(self.omega[0])
+
+    @property
+    def steps(self) -> np.ndarray:
+        """The angles of the integrator's steps over the cycle."""
+        return np.asarray(self.dense.ts, dtype=float)
+
+    def outputs_at(self, phi) -> dict:
+        """The scene's outputs (label -> array) at the angles ``phi`` of the cycle."""
+        phi = np.atleast_1d(np.asarray(phi, dtype=float))
+        states = self.dense(phi)
+        values = np.array([self.compiled.outputs(states[1][j], (x, states[0][j]), self.p)
+                           for j, x in enumerate(phi)]).reshape(len(phi), -1)
+        return {label: values[:, k] for k, label in enumerate(self.compiled.output_labels)}
+
+    def __repr__(self):
+        return (f"<SteadyRunning {self.name}: omega_mean = {self.omega_mean:.6g} rad/s, "
+                f"delta = {self.delta:.6g}, cycle {self.cycle:.6g} rad in "
+                f"{self.cycle_time:.6g} s>")
 
     def summary(self) -> str:
         phi0, omega0 = self.initial
@@ -155,35 +179,6 @@ def _check(mechanism, scene, params):
     return eqs, values
 
 
-def _cycle_map(compiled, p, phi0, cycle, omega0, dense=False):
-    """Integrate one cycle in phi: ``(omega(end), v(end), time(end), solution)``."""
-    def fun(phi, z):
-        omega, _, v = z
-        y = (phi, omega)
-        a = compiled.rhs(0.0, y, p)[1]
-        a_omega = compiled.jac(0.0, y, p)[1][1]
-        return [a / omega, 1 / omega, (a_omega / omega - a / omega ** 2) * v]
-
-    def stall(phi, z):
-        return z[0] - 1e-9 * omega0
-    stall.terminal = True
-    try:
-        sol = solve_ivp(fun, (phi0, phi0 + cycle), [omega0, 0.0, 1.0], method="DOP853",
-                        rtol=_RTOL, atol=_ATOL * max(1.0, omega0), events=stall,
-                        dense_output=dense)
-    except (ArithmeticError, ValueError) as error:
-        raise PeriodicError(f"integration over one cycle failed: {type(error).__name__}: "
-                            f"{error}") from error
-    if sol.status == 1:
-        raise PeriodicError(f"the machine stalls at phi = {sol.t_events[0][0]:.6g} rad "
-                            f"(starting the cycle at omega = {omega0:.6g} rad/s): the driving "
-                            "moment cannot pull it through the cycle")
-    if sol.status != 0:
-        raise PeriodicError(f"integration over one cycle failed: {sol.message}")
-    omega, time, v = sol.y[:, -1]
-    return omega, v, time, sol
-
-
 def steady_running(mechanism, scene, params, cycle=2 * math.pi, *,
                    speed_guess=None) -> SteadyRunning:
     """The periodic speed ``omega(phi)`` of a one-DOF machine over one cycle.
@@ -210,9 +205,10 @@ def steady_running(mechanism, scene, params, cycle=2 * math.pi, *,
     compiled = compile_scene(mechanism, scene)
     p = compiled.parameter_vector(values)
     phi0, omega0 = _start(compiled, mechanism, scene, values.numbers, speed_guess)
+    cycle_map = CycleMap(compiled, scene, p)
     tolerance = 1e3 * _RTOL
     for _ in range(_MAX_NEWTON):
-        omega, v, _, _ = _cycle_map(compiled, p, phi0, cycle, omega0)
+        omega, v, cycle_time, dense = cycle_map(phi0, cycle, omega0)
         residual = omega - omega0
         if abs(residual) <= 100 * _RTOL * omega0:
             break
@@ -226,15 +222,14 @@ def steady_running(mechanism, scene, params, cycle=2 * math.pi, *,
     else:
         raise PeriodicError(f"scene {scene.name!r}: no steady running found in "
                             f"{_MAX_NEWTON} Newton steps (last speed {omega0:.6g} rad/s)")
-    _, v, cycle_time, sol = _cycle_map(compiled, p, phi0, cycle, omega0, dense=True)
     phi = np.linspace(phi0, phi0 + cycle, _POINTS)
-    states = sol.sol(phi)
-    high = _extreme(sol, phi, states[0], -1)
-    low = _extreme(sol, phi, states[0], 1)
+    states = dense(phi)
+    high = _extreme(dense, phi, states[0], -1)
+    low = _extreme(dense, phi, states[0], 1)
     return SteadyRunning(phi, states[0], states[1], cycle, float(cycle_time), high, low,
                          Floquet.of([[v]], cycle_time, tolerance, over=f"one cycle "
                                     f"({cycle:.6g} rad)"),
-                         f"{eqs.name} — scene {scene.name!r}")
+                         f"{eqs.name} — scene {scene.name!r}", compiled, p, dense)
 
 
 def _start(compiled, mechanism, scene, params, speed_guess):
@@ -244,15 +239,15 @@ def _start(compiled, mechanism, scene, params, speed_guess):
     if not omega0 > 0:
         raise PeriodicError(f"scene {scene.name!r}: the first guess of the steady speed is "
                             f"{omega0:.6g} rad/s; give a positive initial speed near the "
-                            "steady one (or speed_guess=)")
+                            "steady one (or speed_guess=; mechdyn periodic --speed-guess)")
     return float(y0[0]), float(omega0)
 
 
-def _extreme(sol, grid, values, sign):
+def _extreme(dense, grid, values, sign):
     """The minimum of ``sign * omega`` on the dense output, polished near the grid's."""
     k = int(np.argmin(sign * values))
     lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, len(grid) - 1)]
-    best = minimize_scalar(lambda x: sign * sol.sol(x)[0], bounds=(lo, hi), method="bounded",
+    best = minimize_scalar(lambda x: sign * dense(x)[0], bounds=(lo, hi), method="bounded",
                            options={"xatol": 1e-12 * max(1.0, abs(hi))})
     return float(min(sign * values[k], best.fun) * sign)
 
@@ -276,6 +271,10 @@ class Flywheel:
     textbook: float
     own_inertia: float
 
+    def __repr__(self):
+        return (f"<Flywheel {self.parameter} = {self.inertia:.6g} for delta = "
+                f"{self.target:.6g} (textbook {self.textbook:.6g})>")
+
     def summary(self) -> str:
         return "\n".join([
             f"flywheel {self.parameter} = {self.inertia:.6g} for delta = {self.target:.6g} "
@@ -285,7 +284,8 @@ class Flywheel:
             f"{self.running.omega_mean:.6g} rad/s, own mean I_red {self.own_inertia:.6g})"])
 
 
-def flywheel(mechanism, scene, params, delta, inertia, cycle=2 * math.pi) -> Flywheel:
+def flywheel(mechanism, scene, params, delta, inertia, cycle=2 * math.pi, *,
+             speed_guess=None) -> Flywheel:
     """The value of the flywheel parameter ``inertia`` that brings the coefficient of
     speed fluctuation to ``delta``, and the textbook estimate.
 
@@ -298,6 +298,8 @@ def flywheel(mechanism, scene, params, delta, inertia, cycle=2 * math.pi) -> Fly
     inertia : sympy.Symbol
         A parameter entering ``I_red`` linearly with a constant positive coefficient
         (a flywheel's moment of inertia on the crank or a geared shaft).
+    speed_guess : float, optional
+        As for :func:`steady_running`: the first guess of the first steady speed.
 
     Returns
     -------
@@ -326,7 +328,7 @@ def flywheel(mechanism, scene, params, delta, inertia, cycle=2 * math.pi) -> Fly
                             f"{eqs.reduced_inertia} linearly with a constant positive "
                             f"coefficient (it enters as {sp.diff(eqs.reduced_inertia, inertia)})")
     coefficient = float(coefficient)
-    guess = {"speed": None}
+    guess = {"speed": speed_guess}
 
     def running_with(value):
         result = steady_running(mechanism, scene, params | {key: value}, cycle,

@@ -139,6 +139,10 @@ class WorkPrecision:
                       "event err", "time ms", "runs", "nfev", "njev", "steps", ""], rows,
                      "\n".join(caption), (None, None, ".0e", ".0e", ".1e", ".1e", ".1e", ".2f"))
 
+    def __repr__(self):
+        return (f"<WorkPrecision {self.mechanism_name!r} / {self.scene.name!r}: "
+                f"{len(self.rows)} runs>")
+
     def __str__(self):
         lines = [self.table().text()]
         labels = sorted({label for r in self.rows for label, _ in r.event_errors})

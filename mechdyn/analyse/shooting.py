@@ -88,6 +88,10 @@ class Floquet:
             return "unstable"
         return "on the stability boundary"
 
+    def __repr__(self):
+        return (f"<Floquet over {self.over}: max |mu| = {self.spectral_radius:.6g}, "
+                f"{self.verdict}>")
+
     def __str__(self):
         values = ", ".join(_complex_text(m) for m in self.multipliers)
         return (f"Floquet multipliers over {self.over}: {values} "

@@ -4,8 +4,9 @@ The job (mechanism, scene, fixed values, generated code) is pickled once per swe
 unpickled once per worker, whose ``compile_scene`` memory cache then holds the scene's
 generated code and whose kernels load its compiled form from the disk cache
 (:func:`_load_kernels`): a worker neither derives nor compiles. A point's row holds the
-swept values, ``t_end``, ``reason``, the final states, each output's peak and ``error``
-(a failing point's message; the sweep goes on). A worker whose scene has another key
+swept values, the sweep's measures of its run or steady cycle
+(:mod:`mechdyn.analyse.sweep_grid`), a run's ``reason`` and ``error`` (a failing
+point's message; the sweep goes on). A worker whose scene has another key
 than the calling process's (an element reads a value changed there in place) fails
 each point with that said, instead of running other code. See
 :mod:`mechdyn.analyse.sweeps`.
@@ -19,8 +20,6 @@ import threading
 import time
 import weakref
 from dataclasses import dataclass, field
-
-import numpy as np
 
 from mechdyn.simulate.repeated import RepeatedRuns
 from mechdyn.simulate.threads import single_threaded_blas
@@ -39,6 +38,7 @@ class _Job:
     meta: dict
     source: str
     refused: dict = field(default_factory=dict)   # point -> its ParameterError
+    plan: object = None                  # :class:`~mechdyn.analyse.sweep_grid.Plan`
 
 
 _jobs: dict = {}          # per worker process: digest -> _Job
@@ -57,7 +57,8 @@ def _install(digest, blob):
         from mechdyn.compile import compiler as compile_module
         compiled = compile_module._memory_cache.setdefault(
             job.key, compile_module.CompiledScene(job.meta, job.source, job.key))
-        _load_kernels(compiled, job.scene)
+        if job.plan.cycle is None:          # steady running integrates on scipy
+            _load_kernels(compiled, job.scene)
     return job
 
 
@@ -85,26 +86,39 @@ def _run_points(digest, blob, points):
 
 
 def _row(job, point) -> dict:
-    """One grid point's row; a failure becomes the row's ``error``."""
+    """One grid point's row; a failure becomes the row's ``error``, a measure that
+    fails is NaN with its error there and the others are kept."""
     if point in job.refused:
         return _failed_row(job.names, point, job.refused[point])
     row = dict(zip(job.names, point))
-    runs = _repeated_runs(job)
     try:
-        if runs is not None and runs.compiled.key != job.key:
-            raise RuntimeError(_OTHER_CODE)
-        if runs is None:
-            result = job.mechanism.simulate(job.scene, {**job.params, **row})
-        else:
-            result = runs.run(point)
+        outcome = _outcome(job, point, row)
     except Exception as error:          # recorded in the row; the sweep goes on
         return _failed_row(job.names, point, error)
-    row.update(t_end=result.t_end, reason=result.reason, error="")
-    for name, values in zip(result.state_names, result.y):
-        row[f"final:{name}"] = float(values[-1])
-    for label, value in _peaks(result, job.meta["output_labels"]).items():
-        row[f"peak:{label}"] = value
+    errors = []
+    for measure in job.plan.measures:
+        try:
+            row[measure.name] = measure(outcome)
+        except Exception as error:      # this measure's error; the others are kept
+            row[measure.name] = float("nan")
+            errors.append(f"{measure.name}: {type(error).__name__}: {error}")
+    if job.plan.cycle is None:
+        row["reason"] = outcome.reason
+    row["error"] = "; ".join(errors)
     return row
+
+
+def _outcome(job, point, row):
+    """The point's run (from the job's parameter template) or steady cycle."""
+    if job.plan.cycle is not None:
+        from mechdyn.analyse.fluctuation import steady_running
+        return steady_running(job.mechanism, job.scene, {**job.params, **row}, job.plan.cycle)
+    runs = _repeated_runs(job)
+    if runs is not None and runs.compiled.key != job.key:
+        raise RuntimeError(_OTHER_CODE)
+    if runs is None:
+        return job.mechanism.simulate(job.scene, {**job.params, **row})
+    return runs.run(point)
 
 
 def _failed_row(names, point, error) -> dict:
@@ -125,19 +139,6 @@ def _repeated_runs(job):
         except Exception:
             _runs[job] = None
     return _runs[job]
-
-
-def _peaks(result, labels, points=1001) -> dict:
-    """Each output's value of largest magnitude, found on the step points and
-    ``points`` even times between them (dense output); nothing is evaluated when the
-    scene records no outputs."""
-    if not labels:
-        return {}
-    times = result.t
-    if len(times) > 1:
-        times = np.union1d(np.linspace(times[0], times[-1], points), times)
-    series = result.outputs_at(times)
-    return {label: float(v[np.argmax(np.abs(v))]) for label, v in series.items()}
 
 
 def _load_kernels(compiled, scene):

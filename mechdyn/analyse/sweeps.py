@@ -50,10 +50,9 @@ from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 
 import numpy as np
 
-from mechdyn.version import __version__
-from mechdyn.errors import ParameterError, did_you_mean
-from mechdyn.declare.parameters import ParameterSet, to_number
+from mechdyn.declare.parameters import ParameterSet
 from mechdyn.analyse.sweep_file import MAX_POINTS, TEXT_COLUMNS, SweepError, SweepFile, SweepFileError
+from mechdyn.analyse.sweep_grid import Plan, grid_points, record_of
 from mechdyn.analyse.sweep_points import (_Job, _load_kernels, _row, _run_points,
                                           _start_worker)
 from mechdyn.simulate.threads import single_threaded_blas
@@ -65,11 +64,14 @@ IN_FLIGHT = 512              # tasks submitted and not yet collected, at most
 HERE_SECONDS = 1.0           # default: points run in the calling process this long first
 BATCH_SECONDS = 0.05         # work per task once the cost of a point is known
 _MAX_BATCH = 64              # points per task, at most
+SHOWN_ROWS = 40              # rows print(sweep) shows, at most
 
 
 def sweep(mechanism, scene, params, grid, executor=None, out=None, progress=True, *,
-          workers=None, max_points=MAX_POINTS, fresh=False, wait=0.0):
-    """Simulate ``scene`` at every point of a full-factorial parameter grid.
+          workers=None, max_points=MAX_POINTS, fresh=False, wait=0.0, measures=None,
+          steady=None, cycle=2 * math.pi):
+    """Simulate ``scene`` (or find its steady running) at every point of a
+    full-factorial parameter grid and measure each.
 
     Parameters
     ----------
@@ -96,12 +98,23 @@ def sweep(mechanism, scene, params, grid, executor=None, out=None, progress=True
         Discard the rows of an existing ``out`` file instead of resuming it.
     wait : float
         Seconds to wait for another sweep that holds ``out`` (default: stop at once).
+    measures : list, optional
+        Measures (:func:`~mechdyn.analyse.measures.measure`: names such as
+        ``"fluctuation"``, ``"peak:motor"``, or functions of an outcome), a column each.
+    steady : bool, optional
+        Measure steady running (:func:`~mechdyn.analyse.fluctuation.steady_running`
+        over ``cycle`` rad, from the scene's initial speed) instead of a run; None:
+        when a measure of steady running (``mean_speed``, ``fluctuation``,
+        ``cycle_time``) is asked for.
 
     Returns
     -------
     Sweep
-        The rows in grid order: the parameters, ``t_end``, ``reason``, ``final:STATE``
-        per coordinate and speed, ``peak:OUTPUT`` per output, ``error`` (empty if ok).
+        The rows in grid order: the parameters, a column per measure (default, of a
+        run: ``t_end``, ``final:STATE`` per coordinate and speed, ``peak:OUTPUT`` per
+        output; of steady running: ``mean_speed``, ``fluctuation``, ``peak:OUTPUT``),
+        ``reason`` (a run's), ``error`` (empty if ok; a measure that fails is NaN and
+        its error is kept here, the others kept).
 
     Examples
     --------
@@ -120,32 +133,30 @@ def sweep(mechanism, scene, params, grid, executor=None, out=None, progress=True
     from mechdyn.compile.compiler import compile_scene
     values = ParameterSet(params, mechanism=mechanism, scene=scene)   # before any compiling
     compiled = compile_scene(mechanism, scene)
-    names, points = _grid_points(grid, compiled, max_points, mechanism.parameter_units)
+    plan = Plan.of(mechanism, scene, measures, steady, cycle, values)
+    names, points = grid_points(grid, compiled, max_points, mechanism.parameter_units)
     fixed_names = [n for n in compiled.param_names if n not in names]
     derived = values.depending_on(names)      # they change with the swept values
     fixed = {name: str(derived[name]) if name in derived else value
              for name, value in zip(fixed_names, values.vector(fixed_names))}
-    columns = _columns(names, compiled)
-    record = _record_of(mechanism, scene, compiled, names, fixed)
+    columns = plan.columns(names)
+    record = record_of(mechanism, scene, compiled, names, fixed, plan)
     with SweepFile(out, columns, names, record, fresh=fresh, wait=wait) as table:
         todo = [point for point in points if point not in table.rows]
         if todo:
             refused = values.refused_points(names, todo)   # checked at once, not per point
             job = _Job(mechanism, scene, {**values.numbers, **derived}, tuple(names),
                        compiled.key, compiled.meta, compiled.source,
-                       {todo[index]: error for index, error in refused.items()})
+                       {todo[index]: error for index, error in refused.items()}, plan)
             blob = _pickled(job, mechanism)     # before any row: workers unpickle it
             bar = _bar(progress, len(points), len(table.rows))
-            if executor is None and workers is None:
+            if executor is None and workers is None and plan.cycle is None:
                 _load_kernels(compiled, scene)    # once, before any point or worker
                 todo = _run_here(job, todo, table, bar, HERE_SECONDS)
             if todo:
                 _run(blob, todo, table, executor or workers, bar)
         rows = [table.rows[point] for point in points]
-    default_y = "t_end" if scene.until else next(
-        (c for c in columns if c.startswith("peak:")), f"final:{compiled.state_names[-1]}")
-    return Sweep(names, columns, rows, default_y, out,
-                 _column_units(mechanism, scene, compiled, names))
+    return Sweep(names, columns, rows, plan.default_y, out, plan.units(mechanism, names))
 
 
 class Sweep:
@@ -155,6 +166,7 @@ class Sweep:
     ``rows`` the dicts; ``failed`` the rows whose simulation failed; ``parameters`` the
     swept names; ``path`` the CSV file (or None); ``units`` the SI unit of each column
     (``""`` where it has none or it is not known), ``label(column)`` ``"P [N]"``.
+    ``print(sweep)`` prints it as a table (``table()``), Jupyter renders it as one.
     """
 
     def __init__(self, parameters, columns, rows, default_y, path=None, units=None):
@@ -186,83 +198,35 @@ class Sweep:
         from mechdyn.plotting import plot_sweep
         return plot_sweep(self, y or self.default_y, path)
 
+    def table(self, rows=SHOWN_ROWS):
+        """The rows as a :class:`~mechdyn.tabular.Table` (headers with units; the
+        first and last ``rows // 2`` rows of a longer sweep, the caption saying so)."""
+        from mechdyn.tabular import Table
+        columns = [c for c in self.columns if c != "error" or self.failed]
+        chosen = list(enumerate(self.rows))
+        caption = f"sweep over {', '.join(self.parameters)}: {len(self.rows)} points"
+        if len(chosen) > rows:
+            chosen = chosen[:rows // 2] + chosen[len(chosen) - rows // 2:]
+            caption += f" (rows {rows // 2 + 1} to {len(self.rows) - rows // 2} left out)"
+        cells = [[_cell(row[c], c) for c in columns] for _, row in chosen]
+        return Table([self.label(c) for c in columns], cells, caption)
+
+    def __str__(self):
+        return self.table().text()
+
+    def _repr_html_(self):
+        return self.table()._repr_html_()
+
     def __repr__(self):
         return (f"<Sweep over {', '.join(self.parameters)}: {len(self.rows)} points, "
                 f"{len(self.failed)} failed>")
 
 
-# ---------------------------------------------------------------------- the grid
-def _grid_points(grid, compiled, max_points, units):
-    """Swept names (checked against the scene's parameters) and the grid's points (values
-    with a unit checked against the parameter's declared one in ``units``), refused
-    before they are built when there are more than ``max_points``."""
-    if not grid:
-        raise ParameterError("sweep: the grid is empty; give {parameter: [values]}")
-    names, axes = [], []
-    for key, values in grid.items():
-        name = str(key)
-        if name not in compiled.param_names:
-            raise ParameterError(f"sweep: {name!r} is not a parameter of this scene"
-                                 f"{did_you_mean(name, compiled.param_names)} "
-                                 f"(parameters: {', '.join(compiled.param_names)})")
-        if name in names:
-            raise ParameterError(f"sweep: {name} is swept twice")
-        if isinstance(values, (str, bytes)) or not hasattr(values, "__iter__"):
-            raise ParameterError(f"sweep: the values of {name} must be a list of numbers")
-        values = list(dict.fromkeys(to_number(name, v, units.get(name)) for v in values))
-        if not values or not all(math.isfinite(v) for v in values):
-            raise ParameterError(f"sweep: give {name} at least one value, all finite")
-        names.append(name)
-        axes.append(values)
-    size = math.prod(len(axis) for axis in axes)
-    if size > max_points:
-        raise SweepError(f"sweep: the grid has {size:,} points "
-                             f"({' x '.join(str(len(a)) for a in axes)}), more than "
-                             f"max_points = {max_points:,}; raise the limit (max_points=, "
-                             "--max-points) if you mean it")
-    return names, list(itertools.product(*axes))
-
-
-def _column_units(mechanism, scene, compiled, names) -> dict:
-    """The SI unit of the values of each column."""
-    from mechdyn.declare.output_units import output_units
-    from mechdyn.units import dimension, si_factor
-
-    def si(unit):
-        if not unit or si_factor(unit) == 1:
-            return "" if unit == "1" else unit or ""
-        return dimension(unit).si
-    units = {name: si(mechanism.parameter_units.get(name, "")) for name in names}
-    units["t_end"] = "s"
-    n = len(compiled.state_names) // 2
-    for position, speed in zip(compiled.state_names[:n], compiled.state_names[n:]):
-        unit = si(mechanism.units.get(position, "rad"))
-        units[f"final:{position}"], units[f"final:{speed}"] = unit, f"{unit}/s"
-    for label, unit in output_units(mechanism, scene).items():
-        units[f"peak:{label}"] = unit or ""
-    return units
-
-
-def _columns(names, compiled):
-    columns = names + ["t_end", "reason"]
-    columns += [f"final:{state}" for state in compiled.state_names]
-    columns += [f"peak:{label}" for label in compiled.output_labels]
-    clash = set(names) & set(columns[len(names):] + ["error"])
-    if clash:
-        raise ParameterError(f"sweep: parameter {sorted(clash)} clashes with a result column")
-    return columns + ["error"]
-
-
-def _record_of(mechanism, scene, compiled, names, fixed) -> dict:
-    """What the rows depend on, as the results file records it."""
-    return {"mechdyn": __version__, "mechanism": str(mechanism.name),
-            "declaration": compiled.key, "swept": list(names),
-            "scene": {"name": str(scene.name), "t_start": repr(scene.t_start),
-                      "t_end": repr(scene.t_end), "method": str(scene.method),
-                      "rtol": repr(scene.rtol), "atol": repr(scene.atol),
-                      "initial": repr(sorted((str(k), str(v))
-                                             for k, v in scene.initial.items()))},
-            "fixed": fixed}
+def _cell(value, column):
+    """A table cell: a number, a missing value (None) or text cut to a line."""
+    if column in TEXT_COLUMNS:
+        return value if len(value) <= 60 else value[:57] + "..."
+    return None if np.isnan(value) else value
 
 
 def _run_here(job, todo, table, bar, seconds) -> list:
@@ -292,10 +256,12 @@ def _pickled(job, mechanism) -> bytes:
     except (pickle.PicklingError, AttributeError, TypeError) as error:
         culprits = [f"{type(e).__name__.lower()} {name!r}" for name, e in
                     mechanism.elements.items() if not _can_pickle(e)]
+        culprits += [f"measure {m.name!r}" for m in job.plan.measures if not _can_pickle(m)]
         raise SweepError(
             f"sweep: {', '.join(culprits) or 'the mechanism or scene'} cannot be pickled "
-            f"for the sweep's worker processes ({error}); define the element class at "
-            "module level in an importable module, not inside a function") from error
+            f"for the sweep's worker processes ({error}); define the element class (or "
+            "the measure's function) at module level in an importable module, not inside "
+            "a function") from error
 
 
 def _can_pickle(value) -> bool:

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import sys
 from mechdyn.errors import MechdynError
-from mechdyn.cli.arguments import (_model_argument, _param_argument, _params, _plot, _progress_argument, _sample_argument, _scene_argument, _scene_inputs, _seconds, _units_argument, _whole_number)
+from mechdyn.cli.arguments import (_model_argument, _param_argument, _params, _plot, _progress_argument, _quantity, _sample_argument, _scene_argument, _scene_inputs, _seconds, _units_argument, _whole_number)
 from mechdyn.cli.common import command_parser, exit_status
 from mechdyn.cli.arguments import EXIT_OK, EXIT_USAGE
 from mechdyn.cli.scene_commands import _progress
@@ -171,19 +171,35 @@ def _sweep(args):
             executor = stack.enter_context(_dask_client(args.dask)).get_executor()
         table = sweep(model.mechanism, scene, params, grid, executor, out=args.out,
                       workers=args.workers, max_points=args.max_points, fresh=args.fresh,
-                      wait=args.wait)
+                      wait=args.wait, measures=args.measure, steady=args.steady or None,
+                      cycle=args.cycle)
+    if "reason" in table.columns and not args.measure and _runs_steadily(model, scene):
+        print(f"mechdyn: the columns measure a run of scene {scene.name!r} over "
+              f"{scene.t_end:g} s; it can run steadily (one DOF, free of t): --steady or "
+              "--measure fluctuation sweeps its steady running", file=sys.stderr)
     y = args.y or table.default_y
     if y not in table.columns:
         raise MechdynError(f"--y {y!r}: not a column ({', '.join(table.columns)})")
-    shown = table.parameters + [y] + (["t_end"] if y != "t_end" else [])
-    print("  ".join(f"{table.label(c):>14}" for c in shown) + "  reason or error")
+    measured = table.columns[len(table.parameters):-1]
+    if "reason" not in table.columns or args.measure:
+        shown = table.parameters + [c for c in measured if c != "reason"]
+    else:
+        shown = table.parameters + [y] + (["t_end"] if y != "t_end" else [])
+    last = "reason or error" if "reason" in table.columns else "error"
+    print("  ".join(f"{table.label(c):>14}" for c in shown) + f"  {last}")
     for row in table.rows:
         cells = "  ".join(f"{row[c]:>14.6g}" for c in shown)
-        print(f"{cells}  {row['error'] or row['reason']}")
+        print(f"{cells}  {row['error'] or row.get('reason', '')}".rstrip())
     if args.out:
         print(f"wrote {args.out}")
     _plot(table, args.plot, y)
     return exit_status(table.failed and f"{len(table.failed)} of {len(table)} points failed")
+
+
+def _runs_steadily(model, scene) -> bool:
+    """Whether ``mechdyn periodic`` would run the scene as steady running."""
+    from mechdyn.analyse.fluctuation import applies
+    return not scene.until and applies(model.mechanism, scene)
 
 
 def _dask_client(address):
@@ -208,9 +224,17 @@ def _add_sweep_command(commands):
          "mechdyn sweep models/hoist_drive.py --scene lift_start --grid E_k=2e6:8e6:4 --grid "
          "d_r=500,1100 --y peak:rope --out hoist.csv --workers 2",
          "mechdyn sweep models/shoe_brake.py --scene braking --grid P=10:100:1000 --dask "
-         "tcp://scheduler:8786 --out brake.csv"],
-        ["columns: the swept parameters, t_end, reason, final:STATE per coordinate and speed, "
-         "peak:OUTPUT per output, error",
+         "tcp://scheduler:8786 --out brake.csv",
+         "mechdyn sweep models/press_flywheel.py --scene steady --grid J_f=0.5:4:8 "
+         "--measure fluctuation --measure mean_speed --measure peak:motor"],
+        ["columns: the swept parameters, then the measures (default t_end, final:STATE per "
+         "coordinate and speed, peak:OUTPUT per output), reason, error",
+         "measures (--measure): mean_speed, fluctuation, cycle_time (steady running), "
+         "peak:OUTPUT, rms:OUTPUT, energy:ELEMENT (per run or steady cycle; energy needs the "
+         "scene's output power:ELEMENT), t_end, stop_angle, final:STATE (per run)",
+         "a sweep measures steady running (one cycle per point) with --steady or a measure "
+         "of steady running; its default measures are mean_speed, fluctuation and the "
+         "peaks over the cycle, shown: fluctuation",
          "exit status 1 if any point failed (its row holds the error; the others are kept)"])
     _model_argument(sweep)
     _scene_argument(sweep)
@@ -237,8 +261,19 @@ def _add_sweep_command(commands):
                        help=f"refuse grids with more points (default {MAX_POINTS:,})")
     sweep.add_argument("--plot", metavar="FILE.png",
                        help="plot --y against the first swept parameter")
-    sweep.add_argument("--y", metavar="COLUMN", help="the column to show and plot "
-                       "(default: t_end if the scene stops, else the first peak)")
+    sweep.add_argument("--measure", action="append", metavar="NAME",
+                       help="a measure, a column each (fluctuation, peak:motor, "
+                       "energy:brake, ...; see below); repeatable")
+    sweep.add_argument("--steady", action="store_true",
+                       help="measure steady running (a one-DOF machine free of t, without "
+                       "until) instead of a run; implied by mean_speed, fluctuation and "
+                       "cycle_time")
+    sweep.add_argument("--cycle", type=_quantity("rad", "cycle"), default="2*pi",
+                       metavar="PHI", help="steady running's cycle of the coordinate "
+                       "(default 2*pi)")
+    sweep.add_argument("--y", metavar="COLUMN", help="the column to plot (default: the "
+                       "first --measure; fluctuation for steady running; else t_end if "
+                       "the scene stops, else the first peak)")
     sweep.set_defaults(run=_sweep)
 
 

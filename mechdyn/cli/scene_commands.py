@@ -233,12 +233,29 @@ def _add_precision_command(commands):
 
 
 def _periodic(args):
-    from mechdyn.analyse.fluctuation import applies, steady_running
+    from mechdyn.analyse.fluctuation import applies, flywheel, steady_running
     from mechdyn.analyse.periodic import periodic_steady_state
+    from mechdyn.errors import SceneError
+    if (args.flywheel_for is None) != (args.inertia is None):
+        raise SceneError("--flywheel-for DELTA and --inertia NAME go together: the flywheel "
+                         "parameter NAME sized for the coefficient of speed fluctuation DELTA")
     model, scene, params = _scene_inputs(args)
     if args.period is None and applies(model.mechanism, scene):
-        solution = steady_running(model.mechanism, scene, params, cycle=args.cycle)
+        if args.flywheel_for is not None:
+            sized = flywheel(model.mechanism, scene, params, args.flywheel_for,
+                             str(model.param_symbol(args.inertia)), cycle=args.cycle,
+                             speed_guess=args.speed_guess)
+            print(sized.summary())
+            solution = sized.running
+        else:
+            solution = steady_running(model.mechanism, scene, params, cycle=args.cycle,
+                                      speed_guess=args.speed_guess)
     else:
+        for option, value in (("--flywheel-for", args.flywheel_for),
+                              ("--speed-guess", args.speed_guess)):
+            if value is not None:
+                raise SceneError(f"{option}: scene {scene.name!r} is not run as the steady "
+                                 "running of a one-DOF machine free of t (without --period)")
         solution = periodic_steady_state(model.mechanism, scene, params, period=args.period)
     print(solution.summary())
     _plot(solution, args.plot)
@@ -254,7 +271,9 @@ def _add_periodic_command(commands):
         "steady running over a cycle of its coordinate with the coefficient of speed "
         "fluctuation delta.",
         ["mechdyn periodic models/loom_sley.py --scene run --plot loom.png",
-         "mechdyn periodic models/press_flywheel.py --scene steady --param J_f=2"])
+         "mechdyn periodic models/press_flywheel.py --scene steady --param J_f=2",
+         "mechdyn periodic models/press_flywheel.py --scene steady --flywheel-for 0.02 "
+         "--inertia J_f --speed-guess '98 rpm'"])
     _model_argument(periodic)
     _scene_argument(periodic)
     _param_argument(periodic)
@@ -266,8 +285,29 @@ def _add_periodic_command(commands):
                           default="2*pi",
                           metavar="PHI",
                           help="cycle of a one-DOF machine's coordinate (default 2*pi)")
+    periodic.add_argument("--speed-guess", type=_quantity("rad/s", "speed"), metavar="OMEGA",
+                          help="steady running: first guess of the speed at the cycle's "
+                          "start, rad/s or with a unit ('98 rpm'; default: the scene's "
+                          "initial speed)")
+    periodic.add_argument("--flywheel-for", type=_fraction, metavar="DELTA",
+                          help="steady running: size the flywheel parameter --inertia for "
+                          "this coefficient of speed fluctuation (0 < DELTA < 1)")
+    periodic.add_argument("--inertia", metavar="NAME", help="the flywheel parameter "
+                          "--flywheel-for sizes (it enters the reduced inertia linearly)")
     periodic.add_argument("--plot", metavar="FILE.png", help="save one period as a figure")
     periodic.set_defaults(run=_periodic)
+
+
+def _fraction(text):
+    """An argparse type: a number strictly between 0 and 1 (arithmetic such as 1/50)."""
+    from mechdyn.parse import ValueTextError, number
+    try:
+        value = number(text)
+    except ValueTextError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+    if not 0 < value < 1:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number between 0 and 1")
+    return value
 
 
 def _report(args):

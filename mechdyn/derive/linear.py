@@ -57,6 +57,10 @@ class StateSpace:
     x0: np.ndarray
     w0: np.ndarray
 
+    def __repr__(self):
+        return (f"<StateSpace: {len(self.states)} states, {len(self.inputs)} inputs, "
+                f"{len(self.outputs)} outputs>")
+
     @property
     def poles(self) -> np.ndarray:
         """Eigenvalues of ``A``."""

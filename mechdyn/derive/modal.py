@@ -75,6 +75,11 @@ class Modes:
         """How many modes have zero frequency."""
         return int(np.count_nonzero(self.omega == 0))
 
+    def __repr__(self):
+        return (f"<Modes of {', '.join(self.coordinates)}: "
+                f"{', '.join(f'{f:.6g}' for f in self.hz[:6])}"
+                f"{', ...' if len(self.hz) > 6 else ''} Hz>")
+
 
 def natural_frequencies(mechanism, scene=None, params=None, at=None) -> Modes:
     """Natural frequencies, mode shapes and damping of ``mechanism`` linearised at an
