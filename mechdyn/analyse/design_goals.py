@@ -30,12 +30,13 @@ import sympy as sp
 
 from mechdyn.errors import MechdynError, did_you_mean
 from mechdyn.units import UnitError, to_si
+from mechdyn.analyse.measures import STEADY_MEASURES
 
 __all__ = ["Goal", "Constraint", "read_goal", "read_constraint", "GoalError",
            "OptimizeError"]
 
-_MEASURE = re.compile(r"(t_end|mean_speed|fluctuation|cycle_time|"
-                      r"(stop_angle|final):[A-Za-z_]\w*|stop_angle)")
+_MEASURE = re.compile(r"(t_end|" + "|".join(STEADY_MEASURES) +   # the differentiable ones
+                      r"|(stop_angle|final):[A-Za-z_]\w*|stop_angle)")
 _RELATION = re.compile(r"^(.*?)(<=|>=|==)(.*)$")
 _BINARY = {ast.Add: sp.Add, ast.Sub: lambda a, b: a - b, ast.Mult: sp.Mul,
            ast.Div: lambda a, b: a / b, ast.Pow: sp.Pow}

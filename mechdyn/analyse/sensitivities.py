@@ -46,6 +46,7 @@ from mechdyn.derive.sensitivity import (cycle_equations, forward_equations,
                                         stop_derivatives)
 from mechdyn.errors import SceneError, SimulationError, did_you_mean
 from mechdyn.symbols import t
+from mechdyn.analyse.measures import STEADY_MEASURES
 from mechdyn.analyse.sensitivity_result import Sensitivities
 from mechdyn.analyse.sensitivity_run import SensitivityError, integrate
 
@@ -53,7 +54,7 @@ __all__ = ["sensitivities", "SensitivityError", "RUN_MEASURES", "CYCLE_MEASURES"
            "measure_unit", "parameter_symbols"]
 
 RUN_MEASURES = ("t_end", "stop_angle")
-CYCLE_MEASURES = ("mean_speed", "fluctuation", "cycle_time")
+CYCLE_MEASURES = STEADY_MEASURES        # mean_speed, fluctuation, cycle_time
 _CYCLE_RTOL, _CYCLE_ATOL, _GRID, _POLISH = 1e-12, 1e-13, 4001, 4
 
 
