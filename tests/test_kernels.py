@@ -420,3 +420,24 @@ def test_the_kernels_start_up_pauses_the_collector_and_respects_a_disabled_one()
         assert not gc.isenabled() and gc.get_freeze_count() == frozen
     finally:
         gc.enable()
+
+
+def test_a_cfunc_model_function_integrates_like_an_njit_one():
+    from numba import cfunc
+
+    @cfunc(mk.RHS_SIGNATURE)
+    def c_decay(t, y, p, out):
+        out[0] = -p[0] * y[0]
+    run = mk.Integration(mk.model_functions(c_decay), [2.0], 0.0, [1.0], **TIGHT)
+    assert run.advance(1.0).status == mk.FINISHED
+    assert abs(run.y[0] - math.exp(-2.0)) < 1e-9
+    with pytest.raises(md.MechdynError, match="must be a numba function"):
+        mk.model_functions(lambda t, y, p, out: None)
+
+
+def test_integrating_backwards_is_refused_naming_both_times():
+    run = mk.Integration(mk.model_functions(decay), [2.0], 0.0, [1.0], **TIGHT)
+    run.advance(1.0)
+    with pytest.raises(md.ParameterError, match="t_bound 0.5 lies before the current time 1.0"):
+        run.advance(0.5)
+    assert run.t == 1.0 and abs(run.y[0] - math.exp(-2.0)) < 1e-9     # left as it was
