@@ -470,3 +470,20 @@ def test_a_side_set_for_a_zero_event_function_holds_across_short_calls(method):
             chunk = run.advance(3.0, max_steps=max_steps)
         assert chunk.status == mk.EVENT and chunk.fired.tolist() == [1]
         assert abs(run.t - 1.0) < 1e-6 and run.y[0] > 0.0   # a step straddles t = 1
+
+
+@njit(mk.RHS_SIGNATURE, cache=True)
+def slow_drift_noting_times(t, y, p, out):
+    out[0] = 1.0
+    p[0] = max(p[0], t)                  # the latest time the model was evaluated at
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_the_model_is_never_evaluated_beyond_t_bound(method):
+    # y = 1000 + t: Hairer's first guess 0.01 |y| / |f| = 10 s is far beyond the 0.1 s
+    # left from t0 = 0.4; the starting step's probe, and every stage, stays within it.
+    run = mk.Integration(mk.model_functions(slow_drift_noting_times), [0.0], 0.4,
+                         [1000.0], method=method, **TIGHT)
+    assert run.advance(0.5).status == mk.FINISHED
+    assert run.y[0] == pytest.approx(1000.1, rel=1e-12)
+    assert run.p[0] <= 0.5
