@@ -353,3 +353,24 @@ def test_a_compilation_over_the_delay_is_announced(monkeypatch, capsys):
         assert "mechdyn: compiling a scene's functions for the compiled kernels (once; " \
             "kept for this process) ..." in err
 
+
+
+def test_a_scene_stored_on_disk_is_read_not_derived_again(tmp_path, monkeypatch):
+    """A new process (an empty memory cache) with the scene on disk loads its code: the
+    derivation is not run, and the code is the stored one."""
+    from mechdyn.compile import compiler
+
+    monkeypatch.setenv("MECHDYN_CACHE", str(tmp_path))
+    monkeypatch.setattr(compiler, "_memory_cache", {})
+    disc = md.Mechanism("stored disc", [phi])
+    disc.link("disc", J=1, angle=phi)
+    disc.spring("spring", 3, stretch=phi)
+    scene = md.Scene("stored", initial={phi: 1, md.speed(phi): 0}, t_end=1)
+    first = compiler.compile_scene(disc, scene)
+
+    def derive_again(*args, **kwargs):
+        raise AssertionError("derived again although the scene is on disk")
+    monkeypatch.setattr(compiler, "_memory_cache", {})            # as a new process
+    monkeypatch.setattr(compiler, "equations", derive_again)
+    second = compiler.compile_scene(disc, scene)
+    assert second is not first and second.source == first.source
