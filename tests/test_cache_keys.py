@@ -374,3 +374,34 @@ def test_a_scene_stored_on_disk_is_read_not_derived_again(tmp_path, monkeypatch)
     monkeypatch.setattr(compiler, "equations", derive_again)
     second = compiler.compile_scene(disc, scene)
     assert second is not first and second.source == first.source
+
+
+@pytest.mark.skipif(not __import__("mechdyn.compile.numba_model",
+                                   fromlist=["available"]).available(), reason="no numba")
+def test_compiled_functions_on_disk_are_imported_by_a_new_process(tmp_path, monkeypatch):
+    """The second load (an empty memory, as a new process) imports the numba folder the
+    first one wrote and keeps it: no compilation in memory, no folder wiped."""
+    from mechdyn.cache import cache_dir
+    from mechdyn.compile import compiler, numba_model
+
+    kernels = cache_dir() / "kernels"               # the kernels' own, already compiled
+    if kernels.is_dir():
+        (tmp_path / "kernels").symlink_to(kernels, target_is_directory=True)
+    monkeypatch.setenv("MECHDYN_CACHE", str(tmp_path))
+    monkeypatch.setattr(compiler, "_memory_cache", {})
+    monkeypatch.setattr(numba_model, "_loaded", {})
+    disc = md.Mechanism("imported disc", [phi])
+    disc.link("disc", J=1, angle=phi)
+    disc.spring("spring", 3, stretch=phi)
+    compiled = compiler.compile_scene(disc, md.Scene("imported", initial={phi: 1},
+                                                     t_end=1))
+    assert numba_model.numba_functions(compiled) is not None
+    folder = tmp_path / "numba" / compiled.key
+    written = sorted(path.name for path in folder.rglob("*"))
+
+    def compile_in_memory(*args):
+        raise AssertionError("compiled in memory although the folder is on disk")
+    monkeypatch.setattr(numba_model, "_loaded", {})                # as a new process
+    monkeypatch.setattr(numba_model, "_in_memory", compile_in_memory)
+    assert numba_model.numba_functions(compiled) is not None
+    assert sorted(path.name for path in folder.rglob("*")) == written
