@@ -276,3 +276,20 @@ def test_a_brake_holds_the_middle_coordinate_while_the_others_move(backend):
     assert res.final(q2) == 0.3 and res.final(md.speed(q2)) == 0.0
     assert res.final(q1) == pytest.approx((5 / 3 - math.sin(15) / 9) / 2.2, rel=1e-8)
     assert res.final(q3) == pytest.approx(10.0, rel=1e-10)
+
+
+def test_the_scipy_backend_never_compiles_the_scene_for_the_kernels(monkeypatch):
+    # backend="scipy" asks for no numba code: the scene's compiled form is not even built
+    # (a compilation takes seconds and is announced); a free disc turns at its speed.
+    from mechdyn.simulate import methods
+
+    def compile_for_kernels(*args):
+        raise AssertionError("compiled for the kernels under backend='scipy'")
+    monkeypatch.setattr(methods, "compiled_functions", compile_for_kernels)
+    phi = md.coordinate("phi")
+    mech = md.Mechanism("scipy disc", [phi])
+    mech.link("disc", J=2, angle=phi)
+    scene = md.Scene("turn", initial={phi: 0, md.speed(phi): 3}, t_end=2, backend="scipy")
+    res = mech.simulate(scene, {})
+    assert set(res.stats["backends"]) == {"scipy"}
+    assert res.final(phi) == pytest.approx(6.0, rel=1e-9)
