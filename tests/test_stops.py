@@ -218,3 +218,15 @@ def test_an_impact_passes_through_two_freewheels_in_a_row():
     assert impact.energy == pytest.approx(18.0, rel=1e-10)
     for angle in (phi_1, phi_2, phi_3):
         assert res.final(md.speed(angle)) == pytest.approx(0.0, abs=1e-12)
+
+
+def test_a_lever_touching_its_stop_at_a_speed_of_rounding_size_rests_on_it():
+    # Speeds below 1e-12 (x (1 + the largest speed)) are rest: a start on the limit
+    # moving into it at 1e-13 rad/s is no impact; pushed in until pi/2, then pulled away
+    # as from rest: 2 x'' = -3 cos t from t = pi/2.
+    res = resting_lever(-3 * sp.cos(md.t)).simulate(
+        md.Scene("s", initial={x: 0, md.speed(x): -1e-13}, t_end=3), {})
+    assert not [e for e in res.events if e.kind == "impact"]
+    assert [e.time for e in res.events if e.kind == "lift"] == \
+        [pytest.approx(math.pi / 2, rel=1e-9)]
+    assert res.final(md.speed(x)) == pytest.approx(-1.5 * (math.sin(3) - 1), rel=1e-9)
