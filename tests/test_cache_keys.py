@@ -405,3 +405,27 @@ def test_compiled_functions_on_disk_are_imported_by_a_new_process(tmp_path, monk
     monkeypatch.setattr(numba_model, "_in_memory", compile_in_memory)
     assert numba_model.numba_functions(compiled) is not None
     assert sorted(path.name for path in folder.rglob("*")) == written
+
+
+def test_the_mode_entries_are_keyed_on_the_numerics_they_are_compiled_from(tmp_path,
+                                                                            monkeypatch):
+    """numba keys a cached cfunc on its own file, but the mode entries' machine code holds
+    the numerics they call: edited numerics loaded the old code from a warm cache (a held
+    coordinate's fix in mode_numerics.py had no effect until the cache was emptied). Each
+    entry closes over a fingerprint of those sources, as the kernels do."""
+    from mechdyn.compile import mode_entry, mode_numerics
+
+    compiled_from = {Path(sys.modules[value.py_func.__module__].__file__)
+                     for value in vars(mode_numerics).values() if hasattr(value, "py_func")}
+    assert compiled_from == set(mode_entry.SOURCES)
+    for implementation, _, _ in mode_entry._ENTRIES.values():
+        assert [cell.cell_contents for cell in implementation.__closure__] == \
+            [mode_entry._fingerprint()]
+    copies = []
+    for source in mode_entry.SOURCES:
+        copies.append(tmp_path / source.name)
+        copies[-1].write_bytes(source.read_bytes())
+    monkeypatch.setattr(mode_entry, "SOURCES", tuple(copies))
+    before = mode_entry._fingerprint()
+    copies[0].write_text(copies[0].read_text().replace("out[n + i] = 0.0", "out[n - i] = 0.0"))
+    assert mode_entry._fingerprint() != before
