@@ -353,3 +353,79 @@ def test_a_compilation_over_the_delay_is_announced(monkeypatch, capsys):
         assert "mechdyn: compiling a scene's functions for the compiled kernels (once; " \
             "kept for this process) ..." in err
 
+
+
+def test_a_scene_stored_on_disk_is_read_not_derived_again(tmp_path, monkeypatch):
+    """A new process (an empty memory cache) with the scene on disk loads its code: the
+    derivation is not run, and the code is the stored one."""
+    from mechdyn.compile import compiler
+
+    monkeypatch.setenv("MECHDYN_CACHE", str(tmp_path))
+    monkeypatch.setattr(compiler, "_memory_cache", {})
+    disc = md.Mechanism("stored disc", [phi])
+    disc.link("disc", J=1, angle=phi)
+    disc.spring("spring", 3, stretch=phi)
+    scene = md.Scene("stored", initial={phi: 1, md.speed(phi): 0}, t_end=1)
+    first = compiler.compile_scene(disc, scene)
+
+    def derive_again(*args, **kwargs):
+        raise AssertionError("derived again although the scene is on disk")
+    monkeypatch.setattr(compiler, "_memory_cache", {})            # as a new process
+    monkeypatch.setattr(compiler, "equations", derive_again)
+    second = compiler.compile_scene(disc, scene)
+    assert second is not first and second.source == first.source
+
+
+@pytest.mark.skipif(not __import__("mechdyn.compile.numba_model",
+                                   fromlist=["available"]).available(), reason="no numba")
+def test_compiled_functions_on_disk_are_imported_by_a_new_process(tmp_path, monkeypatch):
+    """The second load (an empty memory, as a new process) imports the numba folder the
+    first one wrote and keeps it: no compilation in memory, no folder wiped."""
+    from mechdyn.cache import cache_dir
+    from mechdyn.compile import compiler, numba_model
+
+    kernels = cache_dir() / "kernels"               # the kernels' own, already compiled
+    if kernels.is_dir():
+        (tmp_path / "kernels").symlink_to(kernels, target_is_directory=True)
+    monkeypatch.setenv("MECHDYN_CACHE", str(tmp_path))
+    monkeypatch.setattr(compiler, "_memory_cache", {})
+    monkeypatch.setattr(numba_model, "_loaded", {})
+    disc = md.Mechanism("imported disc", [phi])
+    disc.link("disc", J=1, angle=phi)
+    disc.spring("spring", 3, stretch=phi)
+    compiled = compiler.compile_scene(disc, md.Scene("imported", initial={phi: 1},
+                                                     t_end=1))
+    assert numba_model.numba_functions(compiled) is not None
+    folder = tmp_path / "numba" / compiled.key
+    written = sorted(path.name for path in folder.rglob("*"))
+
+    def compile_in_memory(*args):
+        raise AssertionError("compiled in memory although the folder is on disk")
+    monkeypatch.setattr(numba_model, "_loaded", {})                # as a new process
+    monkeypatch.setattr(numba_model, "_in_memory", compile_in_memory)
+    assert numba_model.numba_functions(compiled) is not None
+    assert sorted(path.name for path in folder.rglob("*")) == written
+
+
+def test_the_mode_entries_are_keyed_on_the_numerics_they_are_compiled_from(tmp_path,
+                                                                            monkeypatch):
+    """numba keys a cached cfunc on its own file, but the mode entries' machine code holds
+    the numerics they call: edited numerics loaded the old code from a warm cache (a held
+    coordinate's fix in mode_numerics.py had no effect until the cache was emptied). Each
+    entry closes over a fingerprint of those sources, as the kernels do."""
+    from mechdyn.compile import mode_entry, mode_numerics
+
+    compiled_from = {Path(sys.modules[value.py_func.__module__].__file__)
+                     for value in vars(mode_numerics).values() if hasattr(value, "py_func")}
+    assert compiled_from == set(mode_entry.SOURCES)
+    for implementation, _, _ in mode_entry._ENTRIES.values():
+        assert [cell.cell_contents for cell in implementation.__closure__] == \
+            [mode_entry._fingerprint()]
+    copies = []
+    for source in mode_entry.SOURCES:
+        copies.append(tmp_path / source.name)
+        copies[-1].write_bytes(source.read_bytes())
+    monkeypatch.setattr(mode_entry, "SOURCES", tuple(copies))
+    before = mode_entry._fingerprint()
+    copies[0].write_text(copies[0].read_text().replace("out[n + i] = 0.0", "out[n - i] = 0.0"))
+    assert mode_entry._fingerprint() != before

@@ -252,3 +252,44 @@ def test_a_run_after_the_values_or_the_mechanism_changed_uses_the_new_ones(backe
     assert impact() == pytest.approx(math.sqrt(2 * 0.08 * 0.5 / 1), rel=1e-10)
     scene.initial[theta] = 0.3                 # the scene's start changed in place: 0.2 rad
     assert impact() == pytest.approx(math.sqrt(2 * 0.08 * 0.2 / 1), rel=1e-10)
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_a_brake_holds_the_middle_coordinate_while_the_others_move(backend):
+    # q2 (the second of three) is held by a brake far above its load; q1 carries both
+    # masses (1.5 + 0.7 kg) under sin(3 t) from rest: q1 = (t/3 - sin(3 t)/9) / 2.2; the
+    # free disc on q3 turns on at its 2 rad/s. A held coordinate fixes its own speed and
+    # acceleration, no other's.
+    q1, q2, q3 = md.coordinate("q1"), md.coordinate("q2"), md.coordinate("q3")
+    mech = md.Mechanism("held middle", [q1, q2, q3])
+    mech.link("carriage", m=sp.Rational(3, 2), x=q1)
+    mech.link("slider", m=sp.Rational(7, 10), x=q1 + q2)
+    mech.link("disc", J=1, angle=q3)
+    mech.friction("brake", 10, along=q2)
+    mech.load("push", sp.sin(3 * md.t), along=q1)
+    scene = md.Scene("push", initial={q1: 0, q2: 0.3, q3: 0, md.speed(q1): 0,
+                                      md.speed(q2): 0, md.speed(q3): 2}, t_end=5,
+                     rtol=1e-10, backend=backend)
+    res = mech.simulate(scene, {})
+    assert set(res.stats["backends"]) == ({"compiled"} if backend == "auto" else {"scipy"})
+    assert not [e for e in res.events if e.kind == "slip"]
+    assert res.final(q2) == 0.3 and res.final(md.speed(q2)) == 0.0
+    assert res.final(q1) == pytest.approx((5 / 3 - math.sin(15) / 9) / 2.2, rel=1e-8)
+    assert res.final(q3) == pytest.approx(10.0, rel=1e-10)
+
+
+def test_the_scipy_backend_never_compiles_the_scene_for_the_kernels(monkeypatch):
+    # backend="scipy" asks for no numba code: the scene's compiled form is not even built
+    # (a compilation takes seconds and is announced); a free disc turns at its speed.
+    from mechdyn.simulate import methods
+
+    def compile_for_kernels(*args):
+        raise AssertionError("compiled for the kernels under backend='scipy'")
+    monkeypatch.setattr(methods, "compiled_functions", compile_for_kernels)
+    phi = md.coordinate("phi")
+    mech = md.Mechanism("scipy disc", [phi])
+    mech.link("disc", J=2, angle=phi)
+    scene = md.Scene("turn", initial={phi: 0, md.speed(phi): 3}, t_end=2, backend="scipy")
+    res = mech.simulate(scene, {})
+    assert set(res.stats["backends"]) == {"scipy"}
+    assert res.final(phi) == pytest.approx(6.0, rel=1e-9)

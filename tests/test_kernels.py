@@ -420,3 +420,70 @@ def test_the_kernels_start_up_pauses_the_collector_and_respects_a_disabled_one()
         assert not gc.isenabled() and gc.get_freeze_count() == frozen
     finally:
         gc.enable()
+
+
+def test_a_cfunc_model_function_integrates_like_an_njit_one():
+    from numba import cfunc
+
+    @cfunc(mk.RHS_SIGNATURE)
+    def c_decay(t, y, p, out):
+        out[0] = -p[0] * y[0]
+    run = mk.Integration(mk.model_functions(c_decay), [2.0], 0.0, [1.0], **TIGHT)
+    assert run.advance(1.0).status == mk.FINISHED
+    assert abs(run.y[0] - math.exp(-2.0)) < 1e-9
+    with pytest.raises(md.MechdynError, match="must be a numba function"):
+        mk.model_functions(lambda t, y, p, out: None)
+
+
+def test_integrating_backwards_is_refused_naming_both_times():
+    run = mk.Integration(mk.model_functions(decay), [2.0], 0.0, [1.0], **TIGHT)
+    run.advance(1.0)
+    with pytest.raises(md.ParameterError, match="t_bound 0.5 lies before the current time 1.0"):
+        run.advance(0.5)
+    assert run.t == 1.0 and abs(run.y[0] - math.exp(-2.0)) < 1e-9     # left as it was
+
+
+@njit(mk.RHS_SIGNATURE, cache=True)
+def starts_at_one(t, y, p, out):
+    out[0] = 1.0 if t > 1.0 else 0.0          # y = max(t - 1, 0): exactly 0 until t = 1
+
+
+@njit(mk.EVENTS_SIGNATURE, cache=True)
+def position_event(t, y, p, out):
+    out[0] = y[0]
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_a_side_set_for_a_zero_event_function_holds_across_short_calls(method):
+    # g = y is exactly 0 until t = 1; its caller set it on the side before a rising
+    # crossing (carry's sign memory), so it fires at the first point where y > 0, near
+    # t = 1: in one long call, and in calls of one step each, which continue exactly
+    # (the module doc).
+    from mechdyn.kernels.layout import EVENTS_VALID, HEAD
+    for max_steps in (10 ** 6, 1):
+        run = mk.Integration(mk.model_functions(starts_at_one, events=position_event), [],
+                             0.0, [0.0], method=method, directions=[mk.RISING],
+                             detect_switch=False, **TIGHT)
+        run.carry[EVENTS_VALID], run.carry[HEAD + 2] = 1.0, -1.0
+        chunk = run.advance(3.0, max_steps=max_steps)
+        while chunk.status == mk.CHUNK_FULL:
+            chunk = run.advance(3.0, max_steps=max_steps)
+        assert chunk.status == mk.EVENT and chunk.fired.tolist() == [1]
+        assert abs(run.t - 1.0) < 1e-6 and run.y[0] > 0.0   # a step straddles t = 1
+
+
+@njit(mk.RHS_SIGNATURE, cache=True)
+def slow_drift_noting_times(t, y, p, out):
+    out[0] = 1.0
+    p[0] = max(p[0], t)                  # the latest time the model was evaluated at
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_the_model_is_never_evaluated_beyond_t_bound(method):
+    # y = 1000 + t: Hairer's first guess 0.01 |y| / |f| = 10 s is far beyond the 0.1 s
+    # left from t0 = 0.4; the starting step's probe, and every stage, stays within it.
+    run = mk.Integration(mk.model_functions(slow_drift_noting_times), [0.0], 0.4,
+                         [1000.0], method=method, **TIGHT)
+    assert run.advance(0.5).status == mk.FINISHED
+    assert run.y[0] == pytest.approx(1000.1, rel=1e-12)
+    assert run.p[0] <= 0.5

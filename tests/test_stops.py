@@ -195,3 +195,38 @@ def test_an_impact_passes_through_a_freewheel_that_would_be_driven_backward():
     res = run(phi_1)
     assert res.final(md.speed(phi_2)) == pytest.approx(2.0, rel=1e-12)
     assert res.final(md.speed(phi_1)) == pytest.approx(0.0, abs=1e-12)
+
+
+def test_an_impact_passes_through_two_freewheels_in_a_row():
+    # Hub (J = 1), wheel (J = 3) and rim (J = 5) turning together at 2 rad/s, each
+    # freewheel forbidding the inner one to run ahead of the outer; the rim hits a
+    # plastic stop: all three stop, the stop taking the impulse (1 + 3 + 5) * 2 and the
+    # energy 9 * 2^2 / 2 (one impact, two locking freewheels).
+    phi_3 = md.coordinate("phi_3")
+    mech = md.Mechanism("hub, wheel and rim", [phi_1, phi_2, phi_3])
+    for name, inertia, angle in (("hub", 1, phi_1), ("wheel", 3, phi_2), ("rim", 5, phi_3)):
+        mech.link(name, J=inertia, angle=angle)
+    mech.freewheel("inner", along=phi_2 - phi_1)
+    mech.freewheel("outer", along=phi_3 - phi_2)
+    mech.stop("stop", along=phi_3, upper=0.5)
+    scene = md.Scene("s", initial={phi_1: 0, phi_2: 0, phi_3: 0, md.speed(phi_1): 2,
+                                   md.speed(phi_2): 2, md.speed(phi_3): 2}, t_end=0.5)
+    res = mech.simulate(scene, {})
+    impact = [e for e in res.events if e.kind == "impact"][0]
+    assert impact.time == pytest.approx(0.25, rel=1e-10)
+    assert impact.value == pytest.approx(18.0, rel=1e-10)
+    assert impact.energy == pytest.approx(18.0, rel=1e-10)
+    for angle in (phi_1, phi_2, phi_3):
+        assert res.final(md.speed(angle)) == pytest.approx(0.0, abs=1e-12)
+
+
+def test_a_lever_touching_its_stop_at_a_speed_of_rounding_size_rests_on_it():
+    # Speeds below 1e-12 (x (1 + the largest speed)) are rest: a start on the limit
+    # moving into it at 1e-13 rad/s is no impact; pushed in until pi/2, then pulled away
+    # as from rest: 2 x'' = -3 cos t from t = pi/2.
+    res = resting_lever(-3 * sp.cos(md.t)).simulate(
+        md.Scene("s", initial={x: 0, md.speed(x): -1e-13}, t_end=3), {})
+    assert not [e for e in res.events if e.kind == "impact"]
+    assert [e.time for e in res.events if e.kind == "lift"] == \
+        [pytest.approx(math.pi / 2, rel=1e-9)]
+    assert res.final(md.speed(x)) == pytest.approx(-1.5 * (math.sin(3) - 1), rel=1e-9)

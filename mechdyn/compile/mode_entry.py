@@ -28,6 +28,9 @@ Arguments: 1-D contiguous arrays of float64 ("f") or int64 ("n": the scene's
 """
 from __future__ import annotations
 
+import hashlib
+from pathlib import Path
+
 from llvmlite import binding, ir
 from numba import cfunc, types
 from numba.core import cgutils
@@ -35,46 +38,66 @@ from numba.extending import intrinsic
 from numba import carray
 
 from mechdyn.compile import mode_numerics as numerics
+from mechdyn.kernels import linalg
 from mechdyn.numba_cache import CACHED
 
 __all__ = ["require", "constrained", "frozen_speeds", "group_margins", "rank_margin",
            "least_change_into"]
 
 
-def _constrained(buf, nb, lay, nl, p, np_, x, nx):
-    ok = numerics.constrained(carray(buf, nb), carray(lay, nl), carray(p, np_),
-                              carray(x, nx))
-    return 1 if ok else 0
+def _implementations(fingerprint) -> dict:
+    """name -> (implementation, argument kinds, result type). numba keys a cached
+    ``cfunc`` on this file only, though its machine code holds the numerics it calls:
+    each implementation closes over ``fingerprint`` (of those sources, :data:`SOURCES`),
+    so editing them compiles the entries again instead of loading stale code (as the
+    kernels do, :mod:`mechdyn.kernels.loop`)."""
+    def _constrained(buf, nb, lay, nl, p, np_, x, nx):
+        fingerprint  # noqa: B018 (keys numba's cache on the numerics' sources)
+        ok = numerics.constrained(carray(buf, nb), carray(lay, nl), carray(p, np_),
+                                  carray(x, nx))
+        return 1 if ok else 0
 
+    def _frozen_speeds(lay, nl, p, np_, out, no):
+        fingerprint  # noqa: B018
+        numerics.frozen_speeds(carray(lay, nl), carray(p, np_), carray(out, no))
+        return 0
 
-def _frozen_speeds(lay, nl, p, np_, out, no):
-    numerics.frozen_speeds(carray(lay, nl), carray(p, np_), carray(out, no))
-    return 0
+    def _group_margins(buf, nb, lay, nl, p, np_, x, nx, ok, out, no):
+        fingerprint  # noqa: B018
+        return numerics.group_margins(carray(buf, nb), carray(lay, nl), carray(p, np_),
+                                      carray(x, nx), ok != 0, carray(out, no))
 
+    def _rank_margin(buf, nb, lay, nl):
+        fingerprint  # noqa: B018
+        return numerics.rank_margin(carray(buf, nb), carray(lay, nl))
 
-def _group_margins(buf, nb, lay, nl, p, np_, x, nx, ok, out, no):
-    return numerics.group_margins(carray(buf, nb), carray(lay, nl), carray(p, np_),
-                                  carray(x, nx), ok != 0, carray(out, no))
+    def _least_change(grads, ng, residual, nr, out, no):
+        fingerprint  # noqa: B018
+        step = numerics.least_change(carray(grads, ng).reshape((nr, ng // nr)),
+                                     carray(residual, nr))
+        for i in range(no):
+            out[i] = step[i]
+        return 0
 
-
-def _rank_margin(buf, nb, lay, nl):
-    return numerics.rank_margin(carray(buf, nb), carray(lay, nl))
-
-
-def _least_change(grads, ng, residual, nr, out, no):
-    step = numerics.least_change(carray(grads, ng).reshape((nr, ng // nr)),
-                                 carray(residual, nr))
-    for i in range(no):
-        out[i] = step[i]
-    return 0
-
-
-#: name -> (implementation, argument kinds, result type)
-_ENTRIES = {"constrained": (_constrained, "fnff", types.int64),
+    return {"constrained": (_constrained, "fnff", types.int64),
             "frozen_speeds": (_frozen_speeds, "nff", types.int64),
             "group_margins": (_group_margins, "fnffif", types.int64),
             "rank_margin": (_rank_margin, "fn", types.float64),
             "least_change": (_least_change, "fff", types.int64)}
+
+
+#: the sources the entries' machine code is compiled from, besides this file
+SOURCES = (Path(numerics.__file__), Path(linalg.__file__))
+
+
+def _fingerprint() -> str:
+    digest = hashlib.sha256()
+    for path in SOURCES:
+        digest.update(path.read_bytes())
+    return digest.hexdigest()
+
+
+_ENTRIES = _implementations(_fingerprint())
 _C_ARGUMENTS = {"f": (types.CPointer(types.float64), types.int64),
                 "n": (types.CPointer(types.int64), types.int64), "i": (types.int64,)}
 _registered: dict = {}          # name -> its cfunc, kept alive while its symbol is used
