@@ -66,7 +66,8 @@ class Cluster:
                 time.sleep(0.05)
         for _ in range(workers):
             self.add_worker()
-        self.wait_for_workers(workers)
+        if workers:
+            self.wait_for_workers(workers)
         return self
 
     def add_worker(self, env=None):

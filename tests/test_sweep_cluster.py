@@ -270,3 +270,23 @@ def test_a_lost_scheduler_stops_the_sweep_and_a_rerun_completes_its_file(cluster
     assert sorted(forces) == list(np.linspace(10.0, 100.0, count))
     np.testing.assert_allclose([float(r["t_end"]) for r in _rows(out)],
                                1000 / np.array(forces), rtol=1e-9)
+
+
+@pytest.mark.slow          # the worker compiles the kernels and the scene in memory: 30-60 s
+def test_a_worker_without_a_usable_cache_folder_compiles_in_memory_and_gives_the_rows(
+        cluster, tmp_path):
+    blocked = tmp_path / "a file"
+    blocked.write_text("not a folder\n")
+    cluster.restart(workers=0)
+    try:
+        cluster.add_worker(env={"MECHDYN_CACHE": str(blocked / "cache")})
+        cluster.wait_for_workers(1)
+        model = md.load_model(BRAKE)
+        grid = {"P": list(np.linspace(10.0, 100.0, 20))}
+        with cluster.client() as connected:
+            remote = _local(model, "braking", grid, executor=connected.get_executor())
+        assert remote.rows == _local(model, "braking", grid).rows and not remote.failed
+        log = cluster.log("worker1")
+        assert "CacheWarning" in log and "compiling the integration kernels" in log
+    finally:
+        cluster.restart()
