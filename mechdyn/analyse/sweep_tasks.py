@@ -9,9 +9,10 @@ On such an executor a first task without points checks that a worker can load th
 import is refused before the first row. Then a few tasks of ``_PROBE_POINTS`` points
 measure a point's cost, and every later task carries about ``BATCH_SECONDS`` of work:
 a task's round trip through a scheduler (a millisecond or more) stays a small part of
-it. A task the executor loses (a killed worker) is the executor's to retry (Dask does);
-one it cancels or fails (a lost scheduler) stops the sweep with a ``SweepError`` saying
-that the finished rows are kept and a rerun resumes.
+it; near the end a task takes at most an eighth of the points left, so that the
+workers finish together. A task the executor loses (a killed worker) is the executor's
+to retry (Dask does); one it cancels or fails (a lost scheduler) stops the sweep with a
+``SweepError`` saying that the finished rows are kept and a rerun resumes.
 
 >>> batch = _Batch()
 >>> batch.learn(0.002, 4)              # 0.5 ms a point: 0.1 s is 200 points
@@ -36,6 +37,7 @@ BATCH_SECONDS = 0.1          # work per task once the cost of a point is known
 _MAX_BATCH = 1000            # points per task, at most
 _PROBE_POINTS = 3            # points per task until a point's cost is measured
 _PROBES = 2                  # such tasks in flight at once (an executor of our own: one a worker)
+_TAIL_SHARES = 8             # a task takes at most this share of the points left: an even finish
 
 
 def run_batches(blob, todo, table, executor, bar, classes=()):
@@ -53,21 +55,22 @@ def run_batches(blob, todo, table, executor, bar, classes=()):
                                        initargs=(digest, blob))
         limit = probes = 4 * count
     shipped = None if own else blob               # own workers got the job at start
-    points, pending, finished, batch = iter(todo), set(), False, _Batch()
+    pending, finished, batch, sent = set(), False, _Batch(), 0
     order = {}                          # future -> submission number: rows in grid order
+    # Before any row: can a worker load the job? (the first batches, sent at once, set
+    # up the other workers meanwhile; their rows are not kept if it cannot)
+    check = None if own else executor.submit(_run_points, digest, blob, [])
     try:
-        if not own:                     # before any row: can a worker load the job?
-            pending = {executor.submit(_run_points, digest, blob, [])}
-            _collect(wait(pending)[0], table, bar, batch, classes)
-            pending = set()
         while True:
-            while len(pending) < (limit if batch.known else probes):
-                points_of_batch = list(itertools.islice(points, batch.size))
-                if not points_of_batch:
-                    break
-                future = executor.submit(_run_points, digest, shipped, points_of_batch)
+            while sent < len(todo) and len(pending) < (limit if batch.known else probes):
+                size = min(batch.size, -((sent - len(todo)) // _TAIL_SHARES))  # ceil
+                future = executor.submit(_run_points, digest, shipped, todo[sent:sent + size])
+                sent += size
                 order[future] = len(order)
                 pending.add(future)
+            if check is not None:
+                _collect(wait([check])[0], table, bar, batch, classes)
+                check = None
             if not pending:
                 break
             done, pending = wait(pending, return_when=FIRST_COMPLETED)
@@ -76,8 +79,9 @@ def run_batches(blob, todo, table, executor, bar, classes=()):
     finally:
         for future in pending:
             future.cancel()
-        _collect(sorted((f for f in pending if f.done() and not f.cancelled()
-                         and f.exception() is None), key=order.get), table, bar, batch)
+        if check is None:
+            _collect(sorted((f for f in pending if f.done() and not f.cancelled()
+                             and f.exception() is None), key=order.get), table, bar, batch)
         if bar is not None:
             bar.close()
         if own:
