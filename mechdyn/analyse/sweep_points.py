@@ -76,7 +76,7 @@ def _end_with_parent(parent):
     os._exit(1)
 
 
-class WorkerSetupError(RuntimeError):
+class _WorkerSetupError(RuntimeError):
     """A worker that cannot unpickle the sweep's job (an element class it cannot import)
     or load its compiled form; raised in the worker, turned into a ``SweepError`` that
     says what to do by the calling process."""
@@ -93,7 +93,7 @@ def _run_points(digest, blob, points):
         try:
             job = _install(digest, blob)
         except Exception as error:
-            raise WorkerSetupError(f"{type(error).__name__}: {error} (in process "
+            raise _WorkerSetupError(f"{type(error).__name__}: {error} (in process "
                                    f"{os.getpid()} on {socket.gethostname()})") from None
     with single_threaded_blas():       # set once for the batch, not once per point
         rows = [_row(job, point) for point in points[:1]]

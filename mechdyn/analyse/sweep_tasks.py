@@ -28,7 +28,7 @@ from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 
 from mechdyn.errors import MechdynError
 from mechdyn.analyse.sweep_file import SweepError
-from mechdyn.analyse.sweep_points import WorkerSetupError, _run_points, _start_worker
+from mechdyn.analyse.sweep_points import _WorkerSetupError, _run_points, _start_worker
 
 __all__ = ["run_batches", "IN_FLIGHT", "BATCH_SECONDS"]
 
@@ -139,7 +139,7 @@ def _outcome(future, table, classes):
     error = future.exception()
     if error is None:
         return future.result()
-    if isinstance(error, WorkerSetupError):
+    if isinstance(error, _WorkerSetupError):
         raise SweepError(_cannot_load(error, classes)) from error
     if isinstance(error, (MechdynError, KeyboardInterrupt)):
         raise error
