@@ -8,8 +8,9 @@ the test process itself is killed: the scheduler ends after ``IDLE`` seconds wit
 work, and a worker whose scheduler is gone ends after ``DEATH`` seconds. Only one such
 cluster runs at a time on the machine (a file lock: pytest-xdist may run the tests of
 one module in two processes). The workers import what the test process imports
-(the folder mechdyn comes from and this one on their ``PYTHONPATH``, so the element
-classes of ``sweep_elements`` are importable there) and share its compile cache
+(the folder mechdyn comes from and this one on their ``PYTHONPATH``, so an element
+class of a test module, such as ``test_custom_element.PreloadedSpring``, is importable
+there, as a user's own module would be installed on a cluster's workers) and share its compile cache
 (``MECHDYN_CACHE``) unless a worker is given another.
 """
 from __future__ import annotations

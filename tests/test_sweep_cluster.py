@@ -166,7 +166,7 @@ def _spring_mechanism(spring_class, scene_backend="auto"):
 
 
 def test_an_element_class_the_workers_import_runs_on_the_cluster(client):
-    from sweep_elements import PreloadedSpring
+    from test_custom_element import PreloadedSpring     # the README's; tests/ is on their path
     disc, swing, params = _spring_mechanism(PreloadedSpring)
     grid = {"k": [2.0, 4.0, 8.0, 16.0]}
     remote = md.sweep(disc, swing, params, grid, executor=client.get_executor(),
@@ -184,7 +184,8 @@ def test_an_element_class_the_workers_cannot_import_is_refused_before_the_first_
     folder = tmp_path / "only_here"                 # on this process's path, not theirs
     folder.mkdir()
     (folder / "private_elements.py").write_text(
-        (Path(__file__).with_name("sweep_elements.py")).read_text())
+        "from test_custom_element import PreloadedSpring as Importable\n\n\n"
+        "class PreloadedSpring(Importable):\n    pass\n")
     monkeypatch.syspath_prepend(str(folder))
     from private_elements import PreloadedSpring
     disc, swing, params = _spring_mechanism(PreloadedSpring, "scipy")
@@ -206,7 +207,7 @@ def test_an_element_class_the_workers_cannot_import_is_refused_before_the_first_
 
 def test_an_element_class_defined_in_a_function_is_refused_before_the_first_row(
         client, tmp_path):
-    from sweep_elements import PreloadedSpring
+    from test_custom_element import PreloadedSpring
 
     class LocalSpring(PreloadedSpring):
         pass

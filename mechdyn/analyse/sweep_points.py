@@ -94,13 +94,13 @@ def _run_points(digest, blob, points):
             job = _install(digest, blob)
         except Exception as error:
             raise _WorkerSetupError(f"{type(error).__name__}: {error} (in process "
-                                   f"{os.getpid()} on {socket.gethostname()})") from None
+                                    f"{os.getpid()} on {socket.gethostname()})") from None
     with single_threaded_blas():       # set once for the batch, not once per point
         rows = [_row(job, point) for point in points[:1]]
         started = time.perf_counter()
         rows += [_row(job, point) for point in points[1:]]
         seconds = time.perf_counter() - started
-    return rows, seconds, len(points) - 1
+    return rows, seconds, max(len(points) - 1, 0)
 
 
 def _row(job, point) -> dict:

@@ -22,7 +22,6 @@ to retry (Dask does); one it cancels or fails (a lost scheduler) stops the sweep
 from __future__ import annotations
 
 import hashlib
-import itertools
 import os
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 
