@@ -370,6 +370,8 @@ def main(argv=None):
                      hard_case_matrix.headline(rows), ""]
     else:
         sections += previous_section(previous, "Hard cases")
+    # its own runs (a Dask scheduler and workers): kept, not run here
+    sections += previous_section(previous, "Sweeps on a Dask cluster")
     sections += [f"Skipped (model file did not load): {name}: {why}"
                  for name, why in dict(SKIPPED).items()]
     parts = ["# mechdyn benchmarks", "",

@@ -16,6 +16,7 @@ from __future__ import annotations
 import os
 import pickle
 import signal
+import socket
 import threading
 import time
 import weakref
@@ -76,13 +77,31 @@ def _end_with_parent(parent):
     os._exit(1)
 
 
+class _WorkerSetupError(RuntimeError):
+    """A worker that cannot unpickle the sweep's job (an element class it cannot import)
+    or load its compiled form; raised in the worker, turned into a ``SweepError`` that
+    says what to do by the calling process."""
+
+
 def _run_points(digest, blob, points):
-    """Simulate a batch of grid points in a worker: their rows, and the time taken."""
-    started = time.perf_counter()
-    job = _install(digest, blob) if blob is not None else _jobs[digest]
+    """Simulate a batch of grid points in a worker: their rows, and the seconds and
+    count of the points timed (all but the first of a batch of several: its point may
+    set up the worker's template, which is no point's cost). An empty batch only installs
+    the job: the sweep's check that a worker can load it."""
+    if blob is None:
+        job = _jobs[digest]
+    else:
+        try:
+            job = _install(digest, blob)
+        except Exception as error:
+            raise _WorkerSetupError(f"{type(error).__name__}: {error} (in process "
+                                    f"{os.getpid()} on {socket.gethostname()})") from None
     with single_threaded_blas():       # set once for the batch, not once per point
-        rows = [_row(job, point) for point in points]
-    return rows, time.perf_counter() - started
+        rows = [_row(job, point) for point in points[:1]]
+        started = time.perf_counter()
+        rows += [_row(job, point) for point in points[1:]]
+        seconds = time.perf_counter() - started
+    return rows, seconds, max(len(points) - 1, 0)
 
 
 def _row(job, point) -> dict:

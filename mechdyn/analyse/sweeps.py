@@ -1,21 +1,24 @@
 """Parameter sweeps: run one scene over a grid of parameter values on any Executor.
 
-The equations are derived and compiled once, in the calling process (with the compiled
-kernels' form of the scene, which the points then run on: ``backend="auto"``); the
-workers receive the mechanism, the scene and the generated code once each (local
-processes: when they start; other executors: with each point, unpickled once per
-worker), so they neither derive nor compile. Any :class:`concurrent.futures.Executor`
-runs the points. By default (no ``executor``, no ``workers``) the points run in the
-calling process for ``HERE_SECONDS`` first (a compiled point takes well under a
-millisecond, and starting a worker process costs about a second), and local processes,
-one per core, take what is left; a Dask cluster through
-``distributed.Client(...).get_executor()``.
+The equations are derived and compiled once, in the calling process, with the compiled
+kernels' form of the scene, which the points then run on (``backend="auto"``): the disk
+cache then serves every worker that shares it. The workers receive the mechanism, the
+scene and the generated code (local processes: when they start; other executors: with
+each task, unpickled once per worker), so they neither derive nor compile. Any
+:class:`concurrent.futures.Executor` runs the points. By default (no ``executor``, no
+``workers``) the points run in the calling process for ``HERE_SECONDS`` first (a
+compiled point takes well under a millisecond, and starting a worker process costs
+about a second), and local processes, one per core, take what is left; a Dask cluster
+through ``distributed.Client(...).get_executor()`` (``docs/cluster.md``).
 
 Limits and faults:
 
 - the grid may hold at most ``max_points`` points (default 1,000,000, about 1 KB of
-  memory per row); points go to the workers in batches of about ``BATCH_SECONDS`` of
-  work, at most ``IN_FLIGHT`` batches (four per local worker) submitted at a time;
+  memory per row); points go to the workers in batches of about 0.1 s of work, at most
+  ``IN_FLIGHT`` batches (four per local worker) submitted at a time
+  (:mod:`mechdyn.analyse.sweep_tasks`); a worker that cannot import an element class is
+  refused before the first row; a lost executor (a Dask scheduler) stops the sweep with
+  a ``SweepError``, the finished rows kept;
 - each finished point is appended to the ``out`` CSV file at once (see
   :mod:`mechdyn.analyse.sweep_file`: locked, and recorded so a rerun resumes only the same
   sweep); a crash or Ctrl-C loses only the points in flight;
@@ -40,30 +43,24 @@ row to retry); the other points are kept.
 """
 from __future__ import annotations
 
-import hashlib
 import itertools
 import math
-import os
 import pickle
 import time
-from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 
 import numpy as np
 
 from mechdyn.declare.parameters import ParameterSet
 from mechdyn.analyse.sweep_file import MAX_POINTS, TEXT_COLUMNS, SweepError, SweepFile, SweepFileError
 from mechdyn.analyse.sweep_grid import Plan, grid_points, record_of
-from mechdyn.analyse.sweep_points import (_Job, _load_kernels, _row, _run_points,
-                                          _start_worker)
+from mechdyn.analyse.sweep_points import _Job, _load_kernels, _row
+from mechdyn.analyse.sweep_tasks import IN_FLIGHT, run_batches
 from mechdyn.simulate.threads import single_threaded_blas
 
 __all__ = ["sweep", "Sweep", "SweepError", "SweepFileError", "MAX_POINTS", "IN_FLIGHT"]
 
 
-IN_FLIGHT = 512              # tasks submitted and not yet collected, at most
 HERE_SECONDS = 1.0           # default: points run in the calling process this long first
-BATCH_SECONDS = 0.05         # work per task once the cost of a point is known
-_MAX_BATCH = 64              # points per task, at most
 SHOWN_ROWS = 40              # rows print(sweep) shows, at most
 
 
@@ -150,11 +147,13 @@ def sweep(mechanism, scene, params, grid, executor=None, out=None, progress=True
                        {todo[index]: error for index, error in refused.items()}, plan)
             blob = _pickled(job, mechanism)     # before any row: workers unpickle it
             bar = _bar(progress, len(points), len(table.rows))
+            if plan.cycle is None:                # runs: the compiled scene, loaded once
+                _load_kernels(compiled, scene)    # before any point or worker
             if executor is None and workers is None and plan.cycle is None:
-                _load_kernels(compiled, scene)    # once, before any point or worker
                 todo = _run_here(job, todo, table, bar, HERE_SECONDS)
             if todo:
-                _run(blob, todo, table, executor or workers, bar)
+                run_batches(blob, todo, table, executor or workers, bar,
+                            _foreign_classes(mechanism))
         rows = [table.rows[point] for point in points]
     return Sweep(names, columns, rows, plan.default_y, out, plan.units(mechanism, names))
 
@@ -264,88 +263,20 @@ def _pickled(job, mechanism) -> bytes:
             "a function") from error
 
 
+def _foreign_classes(mechanism) -> list:
+    """The mechanism's element classes defined outside mechdyn (a worker must import
+    them to unpickle the job)."""
+    classes = {type(e) for e in mechanism.elements.values()}
+    return sorted((c for c in classes if not c.__module__.startswith("mechdyn.")),
+                  key=lambda c: (c.__module__, c.__qualname__))
+
+
 def _can_pickle(value) -> bool:
     try:
         pickle.dumps(value)
     except (pickle.PicklingError, AttributeError, TypeError):
         return False
     return True
-
-
-def _run(blob, todo, table, executor, bar):
-    """Submit the points in batches, at most ``IN_FLIGHT`` batches at a time (four per
-    local worker), and record each row as its batch finishes; on any interruption keep
-    the finished rows, cancel the rest and end the local workers. ``executor``: an
-    Executor, or the number of local workers (None: one per core); ``blob`` the pickled
-    job."""
-    digest = hashlib.sha256(blob).hexdigest()
-    own = not hasattr(executor, "submit")
-    limit = IN_FLIGHT
-    if own:
-        count = min(len(todo), executor or os.cpu_count() or 1)
-        executor = ProcessPoolExecutor(max_workers=count, initializer=_start_worker,
-                                       initargs=(digest, blob))
-        limit = 4 * count
-    shipped = None if own else blob               # own workers got the job at start
-    points, pending, finished, batch = iter(todo), set(), False, _Batch()
-    order = {}                          # future -> submission number: rows in grid order
-    try:
-        while True:
-            while len(pending) < limit:
-                points_of_batch = list(itertools.islice(points, batch.size))
-                if not points_of_batch:
-                    break
-                future = executor.submit(_run_points, digest, shipped, points_of_batch)
-                order[future] = len(order)
-                pending.add(future)
-            if not pending:
-                break
-            done, pending = wait(pending, return_when=FIRST_COMPLETED)
-            _collect(sorted(done, key=order.pop), table, bar, batch)
-        finished = True
-    finally:
-        for future in pending:
-            future.cancel()
-        _collect(sorted((f for f in pending if f.done() and not f.cancelled()
-                         and f.exception() is None), key=order.get), table, bar, batch)
-        if bar is not None:
-            bar.close()
-        if own:
-            if not finished:
-                _end_workers(executor)
-            executor.shutdown(wait=True, cancel_futures=True)
-
-
-class _Batch:
-    """Points per submitted task: one at first, then as many as take about
-    ``BATCH_SECONDS``, so the cost of a task's round trip vanishes beside its work."""
-
-    def __init__(self):
-        self.size = 1
-
-    def learn(self, seconds, points):
-        per_point = max(seconds / max(points, 1), 1e-6)
-        self.size = max(1, min(_MAX_BATCH, int(BATCH_SECONDS / per_point)))
-
-
-def _collect(futures, table, bar, batch):
-    for future in futures:
-        rows, seconds = future.result()
-        batch.learn(seconds, len(rows))
-        for row in rows:
-            table.add(row)
-            if bar is not None:
-                bar.update()
-
-
-def _end_workers(executor):
-    """Terminate a ProcessPoolExecutor's workers now (their points are lost anyway)."""
-    terminate = getattr(executor, "terminate_workers", None)       # Python >= 3.14
-    if terminate is not None:
-        terminate()
-        return
-    for process in list((getattr(executor, "_processes", None) or {}).values()):
-        process.terminate()
 
 
 def _bar(show, total, initial):

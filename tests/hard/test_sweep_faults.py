@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 import mechdyn as md
-from mechdyn.analyse import sweeps
+from mechdyn.analyse import sweep_tasks
 from mechdyn.cli import main
 from mechdyn.analyse.sweeps import SweepError, SweepFileError
 
@@ -271,7 +271,7 @@ class _Counting(Executor):
 
 
 def test_points_are_submitted_in_bounded_chunks(brake, monkeypatch):
-    monkeypatch.setattr(sweeps, "IN_FLIGHT", 8)
+    monkeypatch.setattr(sweep_tasks, "IN_FLIGHT", 8)
     executor = _Counting()
     forces = list(np.linspace(10, 100, 60))
     table = md.sweep(brake.mechanism, brake.scenes["braking"], brake.params,
