@@ -26,6 +26,7 @@ of the warm sweep's time the workers spent computing.
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import sys
 import tempfile
@@ -135,13 +136,15 @@ def _job_of(mech, scene, params):
     import hashlib
     import pickle
 
+    from mechdyn.analyse.sweep_grid import Plan
     from mechdyn.analyse.sweep_points import _Job
     from mechdyn.compile.compiler import compile_scene
     from mechdyn.declare.parameters import ParameterSet
     compiled = compile_scene(mech, scene)
     values = ParameterSet(params, mechanism=mech, scene=scene)
+    plan = Plan.of(mech, scene, None, None, 2 * math.pi, values)     # a sweep's defaults
     blob = pickle.dumps(_Job(mech, scene, dict(values.numbers), ("P",), compiled.key,
-                             compiled.meta, compiled.source, {}))
+                             compiled.meta, compiled.source, {}, plan))
     return blob, hashlib.sha256(blob).hexdigest()
 
 

@@ -9,8 +9,8 @@ On such an executor a first task without points checks that a worker can load th
 import is refused before the first row. Then a few tasks of ``_PROBE_POINTS`` points
 measure a point's cost, and every later task carries about ``BATCH_SECONDS`` of work:
 a task's round trip through a scheduler (a millisecond or more) stays a small part of
-it; near the end a task takes at most an eighth of the points left, so that the
-workers finish together. A task the executor loses (a killed worker) is the executor's
+it; near the end a task takes at most an eighth of the points left (and at least a
+quarter of a full task's), so that the workers finish together. A task the executor loses (a killed worker) is the executor's
 to retry (Dask does); one it cancels or fails (a lost scheduler) stops the sweep with a
 ``SweepError`` saying that the finished rows are kept and a rerun resumes.
 
@@ -34,9 +34,10 @@ __all__ = ["run_batches", "IN_FLIGHT", "BATCH_SECONDS"]
 IN_FLIGHT = 512              # tasks submitted and not yet collected, at most
 BATCH_SECONDS = 0.1          # work per task once the cost of a point is known
 _MAX_BATCH = 1000            # points per task, at most
-_PROBE_POINTS = 3            # points per task until a point's cost is measured
+_PROBE_POINTS = 12           # points per task until a point's cost is measured
 _PROBES = 2                  # such tasks in flight at once (an executor of our own: one a worker)
 _TAIL_SHARES = 8             # a task takes at most this share of the points left: an even finish
+_TAIL_FLOOR = 4              # ... and at least this share of a full task's points
 
 
 def run_batches(blob, todo, table, executor, bar, classes=()):
@@ -62,7 +63,8 @@ def run_batches(blob, todo, table, executor, bar, classes=()):
     try:
         while True:
             while sent < len(todo) and len(pending) < (limit if batch.known else probes):
-                size = min(batch.size, -((sent - len(todo)) // _TAIL_SHARES))  # ceil
+                tail = -((sent - len(todo)) // _TAIL_SHARES)              # ceil
+                size = min(batch.size, max(tail, batch.size // _TAIL_FLOOR))
                 future = executor.submit(_run_points, digest, shipped, todo[sent:sent + size])
                 sent += size
                 order[future] = len(order)
