@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from mechdyn.simulate.spectrum import measures, spectral_radius
+from mechdyn.simulate.spectrum import DENSE_LIMIT, measures, spectral_radius
 
 __all__ = ["choose_method", "explicit_for", "stiff_for", "STIFF", "StiffnessMonitor",
            "fallbacks", "STABILITY_LIMIT", "STIFF_RTOL_FLOOR", "segment_tolerances",
@@ -64,6 +64,8 @@ def motion_jacobian(compiled, t, y, p):
     if compiled.constraints:
         from mechdyn.simulate.assembly import manifold_jacobian
         return manifold_jacobian(compiled, t, y, p)
+    if "jac_sparsity" in compiled.meta and 2 * compiled.dof > DENSE_LIMIT:
+        return compiled.sparse_jac(t, y, p)      # its non-zeros: no scan of n^2 entries
     return compiled.jac(t, y, p)
 
 
@@ -86,7 +88,8 @@ def choose_method(compiled, p, y0, t0, t_limit, rtol) -> tuple:
         jacobian = motion_jacobian(compiled, t0, y0, p)
     except (ArithmeticError, ValueError, np.linalg.LinAlgError):
         return explicit, "the Jacobian cannot be evaluated at the start"
-    if not np.all(np.isfinite(jacobian)):
+    values = jacobian.data if hasattr(jacobian, "tocoo") else jacobian   # sparse: its entries
+    if not np.all(np.isfinite(values)):
         return explicit, "the Jacobian is not finite at the start"
     fastest, damped, slow = measures(jacobian)
     magnitude = np.abs(slow)

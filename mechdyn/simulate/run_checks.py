@@ -51,6 +51,12 @@ def check_mass(compiled, terms, t, y) -> float:
         if not np.all(np.linalg.eigvalsh(basis.T @ mass @ basis) > 0):
             raise SingularMassError(", ".join(compiled.coordinates), t, y)
         return scale
+    diagonal = np.diag(mass)
+    if np.count_nonzero(mass) == np.count_nonzero(diagonal):   # diagonal: its entries
+        if np.all(diagonal > 0):
+            return scale
+        worst = int(np.argmin(diagonal))
+        raise SingularMassError(compiled.coordinates[worst], t, y)
     try:
         np.linalg.cholesky(mass)
     except np.linalg.LinAlgError:
