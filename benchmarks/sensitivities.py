@@ -27,7 +27,6 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -36,17 +35,9 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 import mechdyn as md  # noqa: E402
+from peer_models import timed  # noqa: E402  (benchmarks/: the best of repeated calls)
 
 WRT = ["r", "l", "m_r", "J_c", "J_m", "J_f", "M_k", "s_k", "omega_s", "F_p"]
-
-
-def timed(run, repeats):
-    best, value = float("inf"), None
-    for _ in range(repeats):
-        started = time.perf_counter()
-        value = run()
-        best = min(best, time.perf_counter() - started)
-    return best, value
 
 
 def central(measure, params, h=1e-4):
