@@ -24,6 +24,9 @@ import mechdyn as md
 from mechdyn.analyse.sweeps import SweepError
 
 distributed = pytest.importorskip("distributed")
+# A scheduler and two workers for the module: about 25 s of one core; in CI's suite,
+# not in the quick loop (the quick loop stays under two minutes on 2 cores).
+pytestmark = pytest.mark.slow
 
 from dask_cluster import Cluster  # noqa: E402  (after the skip: needs distributed)
 
