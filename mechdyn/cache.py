@@ -129,6 +129,11 @@ def write_failed(directory: Path, error: OSError):
           "storing compiled code")
 
 
+def refused(directory: Path) -> bool:
+    """Whether ``directory`` refused a write in this process (:func:`write_failed`)."""
+    return directory in _read_only
+
+
 def load(name: str) -> dict | None:
     """The JSON object stored under ``name``, or ``None`` (missing, not authentic, or
     not a JSON object: the caller rebuilds it and stores it again)."""

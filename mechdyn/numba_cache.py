@@ -47,7 +47,8 @@ def _root():
         return None
     try:
         (directory / "kernels").mkdir(mode=0o700, exist_ok=True)
-    except OSError:
+    except OSError as error:         # read-only or full: compiled in memory, said once
+        cache.write_failed(directory, error)
         return None
     return directory / "kernels"
 
@@ -82,21 +83,32 @@ if CACHED:
             if folder_for(py_file) is None:
                 return None
             locator = cls(py_func, py_file)
-            with suppress(OSError):      # a full disk: saving fails, and says so, later
-                locator.ensure_cache_path()
+            with suppress(OSError):      # read-only or full: saving fails, and says so, later
+                super(_MechdynLocator, locator).ensure_cache_path()
             return locator
+
+        def ensure_cache_path(self):
+            """numba's, before it saves: a folder the cache may not create or write to
+            (read-only, full) leaves the function compiled for this process only, with
+            the cache's one warning."""
+            try:
+                super().ensure_cache_path()
+            except OSError as error:
+                cache.write_failed(_ROOT.parent, error)
 
     def _save_or_not(self, key, data, _save=_FILE.save):
         """numba's save, except that a write mechdyn's cache folder refuses (a full
         disk, a file size limit) leaves the function compiled for this process only,
         with the cache's one warning (numba removes its partial file)."""
+        ours = Path(self._cache_path).resolve().is_relative_to(_ROOT.resolve())
+        if ours and cache.refused(_ROOT.parent):
+            return
         try:
             _save(self, key, data)
         except OSError as error:
-            if Path(self._cache_path).resolve().is_relative_to(_ROOT.resolve()):
-                cache.write_failed(_ROOT.parent, error)
-            else:
+            if not ours:
                 raise
+            cache.write_failed(_ROOT.parent, error)
 
     if not any(c.__name__ == "_MechdynLocator" for c in _IMPL._locator_classes):
         _IMPL._locator_classes.insert(0, _MechdynLocator)

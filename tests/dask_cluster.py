@@ -71,14 +71,16 @@ class Cluster:
             self.wait_for_workers(workers)
         return self
 
-    def add_worker(self, env=None):
+    def add_worker(self, env=None, confine=None):
         """Start one ``dask worker`` (a nanny and its worker process); ``env``: more
-        environment variables (e.g. another ``MECHDYN_CACHE``)."""
+        environment variables (e.g. another ``MECHDYN_CACHE``); ``confine``: a pair
+        ``(folder, how)`` for :func:`confined`."""
         number = len(self.workers) + 1
-        self.workers.append(self._spawn(f"worker{number}", dask_command(
+        wrap = (lambda command: confined(command, *confine)) if confine else list
+        self.workers.append(self._spawn(f"worker{number}", wrap(dask_command(
             "worker", self.address, "--nthreads", "1", "--no-dashboard",
             "--host", "127.0.0.1", "--death-timeout", f"{DEATH}s",
-            "--local-directory", str(self.folder / f"worker{number}")), env))
+            "--local-directory", str(self.folder / f"worker{number}"))), env))
         return self.workers[-1]
 
     def wait_for_workers(self, count):
@@ -128,6 +130,33 @@ class Cluster:
     def _alive_or_fail(self, process, deadline):
         if process.poll() is not None or time.monotonic() > deadline:
             raise RuntimeError(f"the dask scheduler did not start:\n{self.log('scheduler')}")
+
+
+_MOUNTS = {
+    # the folder seen read-only, as a shared cache mounted read-only on a cluster's nodes
+    "read-only": 'mount --bind "$0" "$0" && mount -o remount,ro,bind "$0"',
+    # a folder on a disk with no space left: a small tmpfs filled to the last byte
+    "full": 'mount -t tmpfs -o size=64k,mode=0700 tmpfs "$0" && '
+            '{ dd if=/dev/zero of="$0/filler" bs=4k 2>/dev/null || true; }',
+}
+
+
+def confined(command, folder, how) -> list:
+    """``command`` in a mount namespace of its own (and its children: the nanny's worker)
+    where ``folder`` is ``"read-only"`` or ``"full"``; the rest of the machine sees no
+    change. Needs :func:`can_confine`: permissions do not stop root (CI's user), a
+    mount does."""
+    return ["unshare", "--mount", "sh", "-c", f'{_MOUNTS[how]} && exec "$@"',
+            str(folder), *command]
+
+
+def can_confine(folder) -> bool:
+    """Whether this process may make mount namespaces (root, or a permitting sandbox)."""
+    probe = confined(["true"], folder, "full")
+    try:
+        return subprocess.run(probe, capture_output=True, timeout=30).returncode == 0
+    except (OSError, subprocess.TimeoutExpired):
+        return False
 
 
 def _end_group(process, first):

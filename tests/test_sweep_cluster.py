@@ -28,7 +28,7 @@ distributed = pytest.importorskip("distributed")
 # not in the quick loop (the quick loop stays under two minutes on 2 cores).
 pytestmark = pytest.mark.slow
 
-from dask_cluster import Cluster  # noqa: E402  (after the skip: needs distributed)
+from dask_cluster import Cluster, can_confine  # noqa: E402  (after the skip: needs distributed)
 
 ROOT = Path(__file__).resolve().parents[1]
 BRAKE = str(ROOT / "models" / "shoe_brake.py")
@@ -292,5 +292,36 @@ def test_a_worker_without_a_usable_cache_folder_compiles_in_memory_and_gives_the
         assert remote.rows == _local(model, "braking", grid).rows and not remote.failed
         log = cluster.log("worker1")
         assert "CacheWarning" in log and "compiling the integration kernels" in log
+    finally:
+        cluster.restart()
+
+
+@pytest.mark.slow          # both workers compile the kernels and the scene in memory: 30-60 s
+def test_workers_with_a_read_only_and_a_full_cache_folder_compile_in_memory_and_give_the_rows(
+        cluster, tmp_path):
+    folders = {how: tmp_path / how for how in ("read-only", "full")}
+    for folder in folders.values():
+        folder.mkdir()
+    if not can_confine(folders["full"]):
+        pytest.skip("no mount namespaces here (unshare --mount): a read-only or full "
+                    "folder cannot be made for one process")
+    cluster.restart(workers=0)
+    try:
+        for how, folder in folders.items():
+            cluster.add_worker(env={"MECHDYN_CACHE": str(folder)}, confine=(folder, how))
+        cluster.wait_for_workers(2)
+        model = md.load_model(BRAKE)
+        grid = {"P": list(np.linspace(10.0, 100.0, 400))}
+        with cluster.client() as connected:
+            remote = _local(model, "braking", grid, executor=connected.get_executor())
+            ran = connected.run(os.getpid)
+        assert len(ran) == 2
+        assert remote.rows == _local(model, "braking", grid).rows and not remote.failed
+        reasons = {"worker1": "it is read-only", "worker2": "the disk is full"}
+        for worker, reason in reasons.items():          # each ran points, compiling
+            log = cluster.log(worker)                    # in memory and saying why
+            assert "compiling the integration kernels" in log, log[-2000:]
+            assert f"cannot write to it ({reason})" in log, log[-2000:]
+        assert not any(folders["read-only"].iterdir())           # nothing got through
     finally:
         cluster.restart()

@@ -243,6 +243,30 @@ def test_a_read_only_directory_degrades_to_no_disk_cache(private_cache):
         private_cache.chmod(0o700)
 
 
+@pytest.mark.slow            # the process compiles the kernels in memory (20-50 s)
+def test_a_read_only_mount_degrades_to_no_disk_cache_in_a_real_process(private_cache):
+    """The cache folder mounted read-only (as a shared cache on a cluster's nodes; a
+    mount binds root too, where permissions do not): the command succeeds, compiling
+    for the process, with one warning that says why."""
+    sys.path.insert(0, str(ROOT / "tests"))
+    from dask_cluster import can_confine, confined
+    run_disc(uuid.uuid4().hex)                             # the folder and its key
+    if not can_confine(private_cache):
+        pytest.skip("no mount namespaces here (unshare --mount)")
+    before = sorted(p.name for p in private_cache.rglob("*"))
+    done = subprocess.run(confined([sys.executable, "-m", "mechdyn.cli.command", "simulate",
+                                    str(ROOT / "models" / "shoe_brake.py"),
+                                    "--scene", "braking"], private_cache, "read-only"),
+                          capture_output=True, text=True,
+                          env=dict(os.environ, PYTHONPATH=str(ROOT),
+                                   PYTHONDONTWRITEBYTECODE="1"))
+    assert done.returncode == 0, done.stderr
+    assert "t = 50 s" in done.stdout
+    assert done.stderr.count("mechdyn: warning:") == 1, done.stderr
+    assert "cannot write to it (it is read-only)" in done.stderr
+    assert sorted(p.name for p in private_cache.rglob("*")) == before
+
+
 @pytest.mark.slow
 def test_concurrent_processes_fill_one_cache_without_damage(private_cache, share_kernels):
     """Three processes compile the same scene into an empty cache at once: all succeed,
