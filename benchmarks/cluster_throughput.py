@@ -19,8 +19,9 @@ collected in the calling process; no ``out`` file), in points per second:
 The runs of one repeat are interleaved; each figure is the best of the repeats (the
 machine is shared). Also printed: the cost of a point inside a worker against the same
 points in the calling process (a batch of 400 in ``_run_points``, its first point not
-timed; alternating, the best of ``--repeats`` each), and
-the cluster's tasks (from Dask's task stream): how many, points per task, and the share
+timed; alternating, the best of ``--repeats`` each), the same with both workers computing
+at once (what two processes sharing the machine's cores give: the ceiling of any
+two-worker figure), and the cluster's tasks (from Dask's task stream): how many, points per task, and the share
 of the warm sweep's time the workers spent computing.
 """
 from __future__ import annotations
@@ -107,6 +108,12 @@ def main(argv=None):
                         pure=False).result())
                     here = min(here, per_point_ms(sweep_points._run_points, *job,
                                                   forces[:400]))
+                together = float("inf")                # both workers computing at once
+                for _ in range(args.repeats):
+                    pair = [client.submit(per_point_ms, sweep_points._run_points, *job,
+                                          forces[:400], pure=False, workers=[address])
+                            for address in client.scheduler_info()["workers"]]
+                    together = min(together, max(future.result() for future in pair))
         finally:
             cluster.close()
 
@@ -123,6 +130,9 @@ def main(argv=None):
                     if kind == "compute")
     print(f"\nper point: {remote:.3f} ms in a worker, {here:.3f} ms in this process "
           f"({remote / here:.2f}x)")
+    print(f"both workers at once: {together:.3f} ms a point each; the most any two "
+          f"processes can give here over one: 2 x {here:.3f} / {together:.3f} = "
+          f"{2 * here / together:.2f}x")
     print(f"warm sweep on the cluster: {len(tasks)} tasks (one without points), "
           f"{args.points / max(len(tasks) - 1, 1):.0f} points a task; workers computing "
           f"{computing:.2f} s of 2 x {wall:.2f} s ({computing / (2 * wall):.0%})")
