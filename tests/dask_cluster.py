@@ -74,7 +74,7 @@ class Cluster:
     def add_worker(self, env=None, confine=None):
         """Start one ``dask worker`` (a nanny and its worker process); ``env``: more
         environment variables (e.g. another ``MECHDYN_CACHE``); ``confine``: a pair
-        ``(folder, how)`` for :func:`confined`."""
+        ``(folder, how)`` or ``(folder, how, seed)`` for :func:`confined`."""
         number = len(self.workers) + 1
         wrap = (lambda command: confined(command, *confine)) if confine else list
         self.workers.append(self._spawn(f"worker{number}", wrap(dask_command(
@@ -134,20 +134,26 @@ class Cluster:
 
 _MOUNTS = {
     # the folder seen read-only, as a shared cache mounted read-only on a cluster's nodes
-    "read-only": 'mount --bind "$0" "$0" && mount -o remount,ro,bind "$0"',
+    "read-only": 'cp -a "$1/." "$0/" && mount --bind "$0" "$0" && '
+                 'mount -o remount,ro,bind "$0"',
     # a folder on a disk with no space left: a small tmpfs filled to the last byte
-    "full": 'mount -t tmpfs -o size=64k,mode=0700 tmpfs "$0" && '
+    "full": 'mount -t tmpfs -o size={size}k,mode=0700 tmpfs "$0" && cp -a "$1/." "$0/" && '
             '{ dd if=/dev/zero of="$0/filler" bs=4k 2>/dev/null || true; }',
 }
 
 
-def confined(command, folder, how) -> list:
+def confined(command, folder, how, seed=None) -> list:
     """``command`` in a mount namespace of its own (and its children: the nanny's worker)
-    where ``folder`` is ``"read-only"`` or ``"full"``; the rest of the machine sees no
+    where ``folder`` is ``"read-only"`` or ``"full"``, holding a copy of the folder
+    ``seed`` (e.g. compiled kernels) if given; the rest of the machine sees no other
     change. Needs :func:`can_confine`: permissions do not stop root (CI's user), a
     mount does."""
-    return ["unshare", "--mount", "sh", "-c", f'{_MOUNTS[how]} && exec "$@"',
-            str(folder), *command]
+    size = 1024 + sum(4 + -(-p.stat().st_size // 4096) * 4        # KiB, in tmpfs's pages
+                      for p in Path(seed).rglob("*")) if seed else 64
+    seed = str(seed) if seed else "/nonexistent-seed"
+    script = _MOUNTS[how].replace("{size}", str(size)).replace('cp -a "$1/." "$0/"', '{ [ ! -d "$1" ] || cp -a "$1/." "$0/"; }')
+    return ["unshare", "--mount", "sh", "-c", f'{script} && shift && exec "$@"',
+            str(folder), seed, *command]
 
 
 def can_confine(folder) -> bool:

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from announcements import said
 import sympy as sp
 
 import mechdyn as md
@@ -184,7 +185,7 @@ def test_a_broken_model_file_exits_2_with_one_line(text, culprit, tmp_path, caps
     path = model_file(tmp_path, text)
     status = main(["simulate", str(path), "--scene", "braking", "--csv", "out.csv"])
     err = capsys.readouterr().err
-    assert status == 2 and err.startswith("mechdyn: error:") and err.count("\n") == 1
+    assert status == 2 and said(err)[0].startswith("mechdyn: error:") and len(said(err)) == 1
     assert culprit in err and str(path) in err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["model.py"]
 
@@ -218,7 +219,7 @@ def test_a_bad_output_option_exits_2_with_one_line_and_writes_nothing(argv, culp
     # and on what this process compiled before): those lines are not the error's
     err = "".join(line for line in capsys.readouterr().err.splitlines(keepends=True)
                   if not ANNOUNCED.match(line))
-    assert status == 2 and err.startswith("mechdyn: error:") and err.count("\n") == 1, err
+    assert status == 2 and said(err)[0].startswith("mechdyn: error:") and len(said(err)) == 1, err
     assert culprit in err
     assert sorted(p.name for p in workspace.iterdir()) == ["brake.py"]
 

@@ -198,7 +198,9 @@ def _load_announced(directory, key, text):
         return _in_memory(key, text)
     try:
         return _load_cached(directory, key, text)
-    except OSError:             # a full or size-limited disk: compiled in memory instead
+    except OSError as error:    # read-only, full or size-limited: compiled in memory
+        cause = error.__cause__              # an OutputError names the file: its cause
+        cache.write_failed(directory, cause if isinstance(cause, OSError) else error)
         shutil.rmtree(directory / "numba" / key, ignore_errors=True)
         with suppress(OSError):
             (directory / "numba" / f"{key}.lock").unlink()
