@@ -58,12 +58,18 @@ CACHED = _ROOT is not None          # njit(cache=CACHED) in mechdyn's own module
 
 
 def folder_for(source: Path):
-    """The folder of numba's files for a source file of the mechdyn package, or None
-    (a file elsewhere, or no disk cache)."""
+    """The folder of numba's files for a source file of the mechdyn package (under
+    ``kernels/``) or of a scene's compiled module (its ``__pycache__``, in the cache
+    folder's ``numba/``: read there also where the folder is read-only); None for a file
+    elsewhere, or without a disk cache."""
     source = Path(source).resolve()
-    if _ROOT is None or PACKAGE not in source.parents:
+    if _ROOT is None:
         return None
-    return _ROOT / _LOCATOR.get_suitable_cache_subpath(str(source))
+    if PACKAGE in source.parents:
+        return _ROOT / _LOCATOR.get_suitable_cache_subpath(str(source))
+    if _ROOT.parent.resolve() / "numba" in source.parents:
+        return source.parent / "__pycache__"
+    return None
 
 
 if CACHED:
@@ -100,7 +106,7 @@ if CACHED:
         """numba's save, except that a write mechdyn's cache folder refuses (a full
         disk, a file size limit) leaves the function compiled for this process only,
         with the cache's one warning (numba removes its partial file)."""
-        ours = Path(self._cache_path).resolve().is_relative_to(_ROOT.resolve())
+        ours = Path(self._cache_path).resolve().is_relative_to(_ROOT.parent.resolve())
         if ours and cache.refused(_ROOT.parent):
             return
         try:

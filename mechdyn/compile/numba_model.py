@@ -221,15 +221,30 @@ def _load_cached(directory, key, text):
     at a time per scene (a sweep's workers load the same scene at once: without the lock
     one would wipe the folder another is importing from)."""
     from filelock import FileLock
-    (directory / "numba").mkdir(mode=0o700, exist_ok=True)
-    with FileLock(str(directory / "numba" / f"{key}.lock")):
-        return _load_locked(directory / "numba" / key, key, text)
+    folder = directory / "numba" / key
+    lock = FileLock(str(directory / "numba" / f"{key}.lock"))
+    try:
+        (directory / "numba").mkdir(mode=0o700, exist_ok=True)
+        lock.acquire()
+    except OSError:             # a read-only folder: nobody can change what it holds
+        if _trusted(folder, text):
+            return _import(folder, key, text)
+        raise
+    try:
+        return _load_locked(folder, key, text)
+    finally:
+        lock.release()
+
+
+def _trusted(folder, text) -> bool:
+    """Whether ``folder`` holds the compiled ``text`` as its manifest records it."""
+    manifest = cache.load(f"numba-{folder.name}.json")
+    return manifest is not None and manifest.get("module") == _digest(text.encode()) \
+        and _matches(folder, manifest.get("files", {}))
 
 
 def _load_locked(folder, key, text):
-    manifest = cache.load(f"numba-{key}.json")
-    trusted = manifest is not None and manifest.get("module") == _digest(text.encode()) \
-        and _matches(folder, manifest.get("files", {}))
+    trusted = _trusted(folder, text)
     if not trusted:
         shutil.rmtree(folder, ignore_errors=True)
     module = _import(folder, key, text)

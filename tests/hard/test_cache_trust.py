@@ -267,6 +267,40 @@ def test_a_read_only_mount_degrades_to_no_disk_cache_in_a_real_process(private_c
     assert sorted(p.name for p in private_cache.rglob("*")) == before
 
 
+LOADED_FROM_DISK = textwrap.dedent("""
+    import sys
+    from mechdyn.cli.command import main
+    assert main(["simulate", sys.argv[1], "--scene", "braking"]) == 0
+    modules = [m for n, m in sys.modules.items() if n.startswith("mechdyn_model_")]
+    dispatchers = [f for m in modules for f in vars(m).values() if hasattr(f, "stats")]
+    print(len(modules), sum(sum(f.stats.cache_hits.values()) for f in dispatchers),
+          sum(sum(f.stats.cache_misses.values()) for f in dispatchers))
+""")
+
+
+@pytest.mark.slow            # three processes, each loading the kernels (3-5 s)
+def test_a_read_only_mount_that_holds_the_scene_is_read_and_nothing_compiled(
+        private_cache, share_kernels):
+    """A shared cache mounted read-only on a cluster's nodes, filled beforehand: the
+    scene's compiled functions are loaded from it (numba's cache hits, no misses),
+    without a warning."""
+    sys.path.insert(0, str(ROOT / "tests"))
+    from dask_cluster import can_confine, confined
+    if not can_confine(private_cache.parent):
+        pytest.skip("no mount namespaces here (unshare --mount)")
+    share_kernels(private_cache)
+    command = [sys.executable, "-c", LOADED_FROM_DISK, str(ROOT / "models" / "shoe_brake.py")]
+    env = dict(os.environ, PYTHONPATH=str(ROOT), PYTHONDONTWRITEBYTECODE="1")
+    filled = subprocess.run(command, capture_output=True, text=True, env=env)
+    assert filled.returncode == 0, filled.stderr
+    read = subprocess.run(confined(command, private_cache, "read-only"),
+                          capture_output=True, text=True, env=env)
+    assert read.returncode == 0, read.stderr
+    modules, hits, misses = map(int, read.stdout.split()[-3:])
+    assert modules == 1 and hits > 0 and misses == 0, read.stdout
+    assert "warning" not in read.stderr, read.stderr
+
+
 @pytest.mark.slow
 def test_concurrent_processes_fill_one_cache_without_damage(private_cache, share_kernels):
     """Three processes compile the same scene into an empty cache at once: all succeed,
