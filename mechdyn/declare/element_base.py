@@ -158,6 +158,12 @@ class Element:
         module)."""
         return Work()
 
+    def printed(self) -> tuple:
+        """``(element, values)``: the element as the printed derivation writes it and
+        ``{symbol: (value, label)}`` of the symbols it writes there for numbers
+        (standard gravity's ``g``); by default itself and none."""
+        return self, {}
+
     def check_units(self, units) -> None:
         """Check the dimensions of its attributes with ``units`` (``units.need``,
         ``units.work``, ``units.same`` of :mod:`mechdyn.declare.dimensions`)."""

@@ -60,6 +60,8 @@ def written(expr, quantities, moving, speeds):
     module): ``quantities`` pairs ``(plain expression, named expression)`` to write
     them in, ``moving`` the symbols of the motion (coordinates, speeds, time),
     ``speeds`` the speeds."""
+    if not isinstance(expr, sp.Basic):
+        return expr
     pieces = {pw: _rewritten(pw, quantities, moving, speeds)
               for pw in expr.atoms(sp.Piecewise)}
     return expr.xreplace(pieces) if pieces else expr

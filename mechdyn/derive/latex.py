@@ -59,7 +59,8 @@ def _loop_rates(eqs) -> list:
 
 
 def _expanded(eqs, budget) -> list:
-    steps = []
+    steps = [(label, sp.latex(symbol), str(symbol), float(value))
+             for symbol, (value, label) in eqs.named_values.items()]
     for c, expr in eqs.eliminated.items():
         plain = expr.xreplace({q: sp.Symbol(q.func.__name__)
                                for q in expr.atoms(AppliedUndef)})

@@ -265,6 +265,8 @@ def textbook(eqs, budget=None) -> Derivation:
     """The named derivation of ``eqs`` (see the module); ``budget`` a :class:`Budget`."""
     budget = budget or Budget()
     book = _Book(eqs, budget)
+    for symbol, (value, _) in eqs.named_values.items():
+        book.define(symbol, value, "value")
     n, q, u = eqs.dof, book.q, eqs.u
     kinetic, mass = sp.S.Zero, sp.zeros(n, n)
     for name, (m, J, x, y, angle) in eqs.links.items():
@@ -321,6 +323,8 @@ def _steps(eqs, book, result, kinetic, potential, dissipation) -> list:
     for c, expr in eqs.eliminated.items():
         steps.append(("rigid", sp.latex(sp.Symbol(c.func.__name__)), c.func.__name__,
                       expr.xreplace({c: sp.Symbol(c.func.__name__)})))
+    steps += [(label, to_latex(symbol), str(symbol), float(value))
+              for symbol, (value, label) in eqs.named_values.items()]
     order = ["position", "order 1", "order 2", "order 3", "law"]
     labels = {"position": "position", "order 1": "transmission function",
               "order 2": "transmission function", "order 3": "transmission function",
