@@ -54,7 +54,7 @@ class Mechanism(declared.Mechanism):
         as named quantities, energies, reduced quantities, equations (``expanded``:
         every term written out in the coordinates)."""
         from mechdyn.derive.latex import derivation_latex
-        return derivation_latex(self.equations(scene), expanded)
+        return derivation_latex(derived.printed_equations(self, scene), expanded)
 
     def derivation(self, scene=None):
         """The derivation as a textbook writes it, as data (a
@@ -62,7 +62,7 @@ class Mechanism(declared.Mechanism):
         definition), ``reduced_inertia``, ``reduced_inertia_slope``, ``reduced_moment``,
         ``mass_matrix``, ``forces`` in the named quantities; ``expand(expr)``."""
         from mechdyn.derive.textbook import textbook
-        return textbook(self.equations(scene))
+        return textbook(derived.printed_equations(self, scene))
 
     def compile(self, scene):
         """The scene's compiled functions (``rhs``, ``jac`` in solve_ivp's ``(t, y)``

@@ -14,6 +14,7 @@ from mechdyn.cli.common import command_parser, exit_status
 
 
 def _equations(args):
+    from mechdyn.derive.equations import printed_equations
     from mechdyn.derive.latex import derivation_latex, derivation_text
     from mechdyn.derive.textbook import Budget
     from mechdyn.declare.model_file import load_model
@@ -22,7 +23,7 @@ def _equations(args):
     write = derivation_latex if args.format == "latex" else derivation_text
     with announced(f"deriving and simplifying the equations of {model.mechanism.name!r} "
                    f"(at most {args.budget:g} s of simplification; --budget)"):
-        eqs = model.mechanism.equations(scene)
+        eqs = printed_equations(model.mechanism, scene)
         solution = _solution(model, scene, args.format) if args.solve else None
         text = write(eqs, expanded=args.expanded, budget=Budget(args.budget))
     print(text)

@@ -16,6 +16,8 @@ subclass of :class:`Element` (a frozen dataclass) and nothing else:
   :mod:`mechdyn.declare.dimensions`;
 - :meth:`Element.output` and :meth:`Element.output_along`: the force or moment a
   scene records, and what it acts along (which gives its unit);
+- :meth:`Element.printed`: the element as the printed derivation writes it and the
+  numbers it names there (standard gravity's ``g`` = 9.81); by default itself;
 - ``DEPENDS`` (what each attribute may depend on: ``q`` the coordinates, ``v``
   speeds, ``t`` the time; ``"qt"`` when not listed), ``MOVING`` (attributes that
   must move with the coordinates, or they do no work) and ``RULES`` (attribute ->
@@ -157,6 +159,12 @@ class Element:
         """Its share of the equations of motion, written with ``motion`` (see the
         module)."""
         return Work()
+
+    def printed(self) -> tuple:
+        """``(element, values)``: the element as the printed derivation writes it and
+        ``{symbol: (value, label)}`` of the symbols it writes there for numbers
+        (standard gravity's ``g``); by default itself and none."""
+        return self, {}
 
     def check_units(self, units) -> None:
         """Check the dimensions of its attributes with ``units`` (``units.need``,

@@ -206,15 +206,25 @@ class Damper(_OnStretch):
         return eqs.to_plain(self.c) * rate
 
 
+STANDARD_GRAVITY = 9.81        # m/s^2, what mech.gravity() uses unless given another g
+G = sp.Symbol("g", positive=True)
+
+
 @dataclass(frozen=True)
 class Gravity(Element):
-    """Uniform gravity ``g`` along -y: potential ``m g y`` of every link."""
-    g: object = 9.81
+    """Uniform gravity ``g`` along -y: potential ``m g y`` of every link. Without a
+    ``g`` it is standard gravity, 9.81 m/s^2: the number in the equations, the symbol
+    ``g`` in the printed derivation (:meth:`printed`)."""
+    g: object = None
+    standard: bool = field(default=False, init=False, repr=False, compare=False)
 
     DEPENDS = {"g": ""}
 
     def __post_init__(self):
         super().__post_init__()
+        if self.g is None:
+            object.__setattr__(self, "g", STANDARD_GRAVITY)
+            object.__setattr__(self, "standard", True)
         self.convert("g")
 
     def work(self, motion):
@@ -223,6 +233,12 @@ class Gravity(Element):
             potential += m * g * y
             forces.append((-m * g, y))
         return Work(potential=potential, forces=tuple(forces))
+
+    def printed(self):
+        """Standard gravity writes ``g`` (= 9.81 m/s^2) where a textbook does."""
+        if not self.standard:
+            return self, {}
+        return Gravity(self.name, g=G, tags=self.tags), {G: (self.g, "gravity (m/s^2)")}
 
     def check_units(self, units):
         units.need("g", "m/s^2", "gravity")

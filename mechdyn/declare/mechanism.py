@@ -171,8 +171,9 @@ class Mechanism(Couplings):
         """A viscous damper of coefficient ``c`` on the rate of ``stretch``."""
         return self.add(Damper(name, c=c, stretch=stretch, tags=tags))
 
-    def gravity(self, g=9.81, name="gravity", tags=()) -> Gravity:
-        """Gravity ``g`` acting along -y on every link."""
+    def gravity(self, g=None, name="gravity", tags=()) -> Gravity:
+        """Gravity ``g`` acting along -y on every link; without ``g`` standard gravity,
+        9.81 m/s^2 (printed as ``g`` in the derivation)."""
         return self.add(Gravity(name, g=g, tags=tags))
 
     def friction(self, name, moment, along, peak=1, tags=()) -> Friction:

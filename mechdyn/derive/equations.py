@@ -20,7 +20,7 @@ from mechdyn.derive.lagrange import derive, element_works
 from mechdyn.errors import SceneError
 from mechdyn.keys import content, foreign
 
-__all__ = ["equations", "foreign_works", "check_dimensions", "reduced_inertia", "reduced_moment",
+__all__ = ["equations", "printed_equations", "foreign_works", "check_dimensions", "reduced_inertia", "reduced_moment",
            "transmission_functions", "element_output"]
 
 
@@ -39,6 +39,30 @@ def equations(mechanism, scene=None):
             check_equations(eqs, mechanism)
         mechanism._derived[key] = eqs
     return eqs
+
+
+def printed_equations(mechanism, scene=None):
+    """The equations as the printed derivation writes them: :func:`equations` of the
+    elements' printed forms (standard gravity as ``g``, with its value in
+    ``named_values``); the same object when no element prints otherwise.
+
+    >>> import sympy as sp, mechdyn as md
+    >>> phi = md.coordinate("phi")
+    >>> pendulum = md.Mechanism("pendulum", [phi])
+    >>> _ = pendulum.link("bob", m=2, y=-sp.cos(phi))
+    >>> _ = pendulum.gravity()
+    >>> equations(pendulum).potential_energy, printed_equations(pendulum).potential_energy
+    (-19.62*cos(phi), -2*g*cos(phi))
+    """
+    eqs = equations(mechanism, scene)
+    key = ("printed",) + selection(mechanism, scene)
+    if key not in mechanism._derived:
+        if any(call(mechanism.elements[name], "printed")[1] for name in eqs.works):
+            printed = derive(mechanism, *key[1:], printed=True)
+            mechanism._derived[key] = eqs if not printed.named_values else printed
+        else:
+            mechanism._derived[key] = eqs
+    return mechanism._derived[key]
 
 
 def foreign_works(mechanism, scene=None) -> dict:

@@ -20,7 +20,7 @@ For one coordinate it also gives the reduced inertia ``I_red = M_11``, the reduc
 from __future__ import annotations
 
 import sympy as sp
-from mechdyn.declare.contract import checked_work, completed
+from mechdyn.declare.contract import call, checked_work, completed
 from mechdyn.declare.elements import Constraint, Link, is_structural
 from mechdyn.errors import DerivationError
 from mechdyn.symbols import dotted_symbol, t
@@ -31,10 +31,14 @@ __all__ = ["derive", "element_works"]
 
 
 # ----------------------------------------------------------------------- derivation
-def derive(mechanism, element_names=None, rigid=()) -> Equations:
+def derive(mechanism, element_names=None, rigid=(), printed=False) -> Equations:
     """Form the equations of ``mechanism`` with the named elements (all if None) and
-    the springs in ``rigid`` (pairs ``(spring name, coordinate name or None)``) rigid."""
-    elements = mechanism.elements
+    the springs in ``rigid`` (pairs ``(spring name, coordinate name or None)``) rigid;
+    ``printed``: of the elements as the printed derivation writes them (standard
+    gravity as ``g``, its value in ``named_values``)."""
+    elements, named_values = mechanism.elements, {}
+    if printed:
+        elements, named_values = _printed(mechanism)
     if element_names is None:
         element_names = tuple(n for n, e in elements.items() if not is_structural(e))
     rigid_names = tuple(name for name, _ in rigid)
@@ -117,7 +121,21 @@ def derive(mechanism, element_names=None, rigid=()) -> Equations:
         contacts=tuple(contacts), gears=tuple(gears), works=works,
         acting={name: elements[name] for name in works},
         coordinate_units={plain_of[c]: mechanism.units.get(c.func.__name__, "rad")
-                          for c in kept})
+                          for c in kept}, named_values=named_values)
+
+
+def _printed(mechanism) -> tuple:
+    """``(elements, named values)`` as the printed derivation writes them; a symbol
+    whose name a parameter of the mechanism has already keeps its number (no two g)."""
+    taken = set(mechanism._parameter_names()) | set(mechanism.parameter_units)
+    elements, values = {}, {}
+    for name, element in mechanism.elements.items():
+        shown, named = call(element, "printed")
+        if named and not {symbol.name for symbol in named} & taken:
+            element = shown
+            values.update(named)
+        elements[name] = element
+    return elements, values
 
 
 def _foreign(element) -> bool:

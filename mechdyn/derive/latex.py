@@ -15,6 +15,7 @@ from __future__ import annotations
 import sympy as sp
 from sympy.core.function import AppliedUndef
 
+from mechdyn.derive.conditions import written
 from mechdyn.derive.coupling_steps import coupling_steps
 from mechdyn.derive.textbook import Budget, applies, textbook, to_latex
 
@@ -40,7 +41,26 @@ def derivation_steps(eqs, expanded=False, budget=None) -> list:
 def _derivation(eqs, expanded, budget) -> list:
     if not expanded and applies(eqs):
         return textbook(eqs, budget).steps
-    steps = []
+    quantities = _loop_rates(eqs) if eqs.constraints else []
+    moving = set(eqs.q) | set(eqs.u) | {sp.Symbol("t", real=True)}
+    return [(label, lhs_latex, lhs_text, written(rhs, quantities, moving, set(eqs.u)))
+            for label, lhs_latex, lhs_text, rhs in _expanded(eqs, budget)]
+
+
+def _loop_rates(eqs) -> list:
+    """``(plain, named)`` rates ``theta_2' phidot`` of a one-DOF linkage's dependent
+    coordinates, to write its switching conditions in."""
+    from mechdyn.derive import transmission
+    if len(eqs.independent) != 1 or eqs.rheonomic:
+        return []
+    speed = eqs.u[eqs.q.index(eqs.independent[0])]
+    return [(ratio * speed, transmission.ratio_symbol(q) * speed)
+            for q, ratio in transmission.ratios(eqs).items()]
+
+
+def _expanded(eqs, budget) -> list:
+    steps = [(label, sp.latex(symbol), str(symbol), float(value))
+             for symbol, (value, label) in eqs.named_values.items()]
     for c, expr in eqs.eliminated.items():
         plain = expr.xreplace({q: sp.Symbol(q.func.__name__)
                                for q in expr.atoms(AppliedUndef)})

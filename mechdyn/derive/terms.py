@@ -85,7 +85,9 @@ class Equations:
     ``works`` (element name -> its :class:`~mechdyn.declare.element_base.Work` in plain
     symbols), ``acting`` (element name -> the element: the printed derivation asks it
     for its terms in named quantities),
-    ``coordinate_units`` (plain symbol -> declared unit).
+    ``coordinate_units`` (plain symbol -> declared unit), ``named_values`` (of the
+    printed equations: symbol -> ``(number, label)`` it stands for, standard gravity's
+    ``g``; empty in the equations the numerics use).
     """
     name: str
     coordinates: tuple
@@ -114,6 +116,7 @@ class Equations:
     works: dict = field(default_factory=dict)
     acting: dict = field(default_factory=dict)
     coordinate_units: dict = field(default_factory=dict)
+    named_values: dict = field(default_factory=dict)
 
     # --------------------------------------------------------------- the system
     @property

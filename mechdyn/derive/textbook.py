@@ -31,6 +31,7 @@ from sympy.printing.latex import LatexPrinter
 
 from mechdyn.declare.contract import call, completed
 from mechdyn.derive.budget import Budget, cheap_tidy
+from mechdyn.derive.conditions import written
 from mechdyn.derive.coupling_steps import coupling_steps
 from mechdyn.symbols import t
 
@@ -151,7 +152,7 @@ class _Book:
         self.moving = set(eqs.q) | set(eqs.u) | {t}
         self.definitions, self.kinds = {}, {}
         self.by_expr, self.slopes = {}, {}
-        self.link_names = {}
+        self.link_names, self.written = {}, None
         for name, (m, J, x, y, angle) in eqs.links.items():
             for base, expr in (("x", x), ("y", y), ("theta", angle)):
                 self.link_names.setdefault(expr, (base, name))
@@ -209,6 +210,24 @@ class _Book:
     def rate(self, expr):
         return sp.Add(*[self.slope(expr, qk) * uk for qk, uk in zip(self.q, self.eqs.u)])
 
+    def shown(self, expr):
+        """``expr`` with its switching conditions as written (:mod:`~mechdyn.derive.
+        conditions`): in the named positions and their rates, moving side first."""
+        if not isinstance(expr, sp.Basic) or not expr.has(sp.Piecewise):
+            return expr
+        if isinstance(expr, InOrder):
+            return InOrder(*[self.shown(term) for term in expr.args], evaluate=False)
+        return written(expr, self.quantities(), self.moving, set(self.eqs.u))
+
+    def quantities(self):
+        """``(plain, named)`` of the named positions and their rates, taken once (after
+        the terms are named, before the steps print: a rate names its slopes)."""
+        if self.written is None:
+            positions = [s for s in self.definitions if self.kinds[s] == "position"]
+            self.written = [(self.definitions[s], s) for s in positions] + \
+                [(self.rate(self.definitions[s]), self.rate(s)) for s in positions]
+        return self.written
+
     def letter(self, along):
         """M for a moment (along an angle), F for a force, Q when it cannot tell."""
         named = along.atoms(Named)
@@ -246,6 +265,8 @@ def textbook(eqs, budget=None) -> Derivation:
     """The named derivation of ``eqs`` (see the module); ``budget`` a :class:`Budget`."""
     budget = budget or Budget()
     book = _Book(eqs, budget)
+    for symbol, (value, _) in eqs.named_values.items():
+        book.define(symbol, value, "value")
     n, q, u = eqs.dof, book.q, eqs.u
     kinetic, mass = sp.S.Zero, sp.zeros(n, n)
     for name, (m, J, x, y, angle) in eqs.links.items():
@@ -276,6 +297,7 @@ def textbook(eqs, budget=None) -> Derivation:
         result.reduced_inertia = mass[0, 0]
         result.reduced_inertia_slope = sp.factor_terms(sp.expand(book.slope(mass[0, 0], q[0])))
         result.reduced_moment = forces[0]
+    book.quantities()
     result.steps = _steps(eqs, book, result, kinetic, potential, dissipation)
     result.budget_spent = budget.spent
     return result
@@ -301,6 +323,8 @@ def _steps(eqs, book, result, kinetic, potential, dissipation) -> list:
     for c, expr in eqs.eliminated.items():
         steps.append(("rigid", sp.latex(sp.Symbol(c.func.__name__)), c.func.__name__,
                       expr.xreplace({c: sp.Symbol(c.func.__name__)})))
+    steps += [(label, to_latex(symbol), str(symbol), float(value))
+              for symbol, (value, label) in eqs.named_values.items()]
     order = ["position", "order 1", "order 2", "order 3", "law"]
     labels = {"position": "position", "order 1": "transmission function",
               "order 2": "transmission function", "order 3": "transmission function",
@@ -319,7 +343,7 @@ def _steps(eqs, book, result, kinetic, potential, dissipation) -> list:
                 args = sorted(expr.free_symbols & book.moving, key=str)
                 lhs_latex += "\\left(" + ", ".join(map(sp.latex, args)) + "\\right)"
                 lhs_text += "(" + ", ".join(map(str, args)) + ")"
-            steps.append((labels[kind], lhs_latex, lhs_text, expr))
+            steps.append((labels[kind], lhs_latex, lhs_text, book.shown(expr)))
     steps.append(("kinetic energy", "T", "T", sp.factor_terms(kinetic)))
     if potential != 0:
         steps.append(("potential energy", "V", "V", potential))
@@ -333,7 +357,7 @@ def _steps(eqs, book, result, kinetic, potential, dissipation) -> list:
         slope_latex = f"\\frac{{d I_{{\\mathrm{{red}}}}}}{{d {dq}}}"
         steps.append(("reduced inertia", "I_{\\mathrm{red}}", "I_red", result.reduced_inertia))
         steps.append(("its slope", slope_latex, f"dI_red/d{q[0]}", result.reduced_inertia_slope))
-        steps.append(("reduced moment", "M_{\\mathrm{red}}", "M_red", moment))
+        steps.append(("reduced moment", "M_{\\mathrm{red}}", "M_red", book.shown(moment)))
         textbook_lhs = (f"I_{{\\mathrm{{red}}}} {sp.latex(a[0])} + \\frac{{1}}{{2}} "
                         f"{slope_latex} {sp.latex(u[0])}^{{2}}")
         steps.append(("textbook form", textbook_lhs,
@@ -341,7 +365,8 @@ def _steps(eqs, book, result, kinetic, potential, dissipation) -> list:
     for i in range(eqs.dof):
         force = in_order([column[i] for column in result.terms.values()])
         if eqs.dof > 1 and force != 0:
-            steps.append(("generalized force", f"Q_{{{sp.latex(q[i])}}}", f"Q[{q[i]}]", force))
+            steps.append(("generalized force", f"Q_{{{sp.latex(q[i])}}}", f"Q[{q[i]}]",
+                          book.shown(force)))
         parts = [(result.mass_matrix[i, j], a[j]) for j in range(eqs.dof)
                  if result.mass_matrix[i, j] != 0]
         if eqs.dof == 1:        # the textbook's 1/2 I_red' omega^2
@@ -353,7 +378,7 @@ def _steps(eqs, book, result, kinetic, potential, dissipation) -> list:
                                for m, x in parts)
         text_lhs = " + ".join(_product(m, x, sp.sstr, "*", "(", ")") for m, x in parts)
         steps.append(("equation of motion", latex_lhs.replace("+ -", "- "),
-                      text_lhs.replace("+ -", "- "), force))
+                      text_lhs.replace("+ -", "- "), book.shown(force)))
     return steps
 
 

@@ -21,6 +21,7 @@ from sympy.core.function import AppliedUndef
 
 from mechdyn.declare.elements import is_structural
 from mechdyn.errors import SimulationError
+from mechdyn.derive.equations import printed_equations
 from mechdyn.derive.latex import derivation_latex, derivation_steps, rhs_latex
 from mechdyn.symbols import plain
 from mechdyn.plotting import figure_html
@@ -98,7 +99,7 @@ def report(mechanism, scene, params, precision=False) -> Report:
     except SimulationError as error:
         result, failure = error.partial, str(error)
     sections = [
-        _section("Derivation", _derivation(eqs)),
+        _section("Derivation", _derivation(printed_equations(mechanism, scene))),
         _section("Mechanism", _elements(mechanism, eqs)
                  + _parameters(params, eqs, mechanism.parameter_units)),
         _section("Scene", _scene(scene)),
@@ -115,7 +116,8 @@ def mechanism_html(mechanism) -> str:
     """A mechanism as HTML: its elements and the derivation (MathML)."""
     eqs = mechanism.equations()
     return (f"<div class='mechdyn'>{JUPYTER_STYLE}<h3>{_e(mechanism.name)}</h3>"
-            + _elements(mechanism, eqs) + _derivation(eqs, source=False) + "</div>")
+            + _elements(mechanism, eqs)
+            + _derivation(printed_equations(mechanism), source=False) + "</div>")
 
 
 # --------------------------------------------------------------------- sections
