@@ -13,6 +13,7 @@ the slip is ``J_1 J_2 omega_0^2 / (2 (J_1 + J_2))``.
 # Engaging without a load moment
 # ------------------------------
 import matplotlib.pyplot as plt
+import numpy as np
 
 import mechdyn as md
 
@@ -28,9 +29,10 @@ print(f"locked at t = {lock.time:.4f} s at {res.final(md.speed(phi_2)):.4f} rad/
 heat = J1 * w0**2 / 2 - (J1 + J2) * res.final(md.speed(phi_2)) ** 2 / 2
 print(f"heat of the slip {heat:.2f} J, by hand {J1 * J2 * w0**2 / (2 * (J1 + J2)):.2f} J")
 
+times = np.linspace(0, res.t_end, 401)
 fig, ax = plt.subplots(figsize=(6.4, 3.6))
-ax.plot(res.t, res[md.speed(phi_1)], label="flywheel")
-ax.plot(res.t, res[md.speed(phi_2)], label="load")
+ax.plot(times, res.at(times, md.speed(phi_1)), label="flywheel")
+ax.plot(times, res.at(times, md.speed(phi_2)), label="load")
 ax.axvline(lock.time, color="k", lw=0.8, ls=":", label="clutch locks")
 ax.set_xlabel("time t [s]")
 ax.set_ylabel("speed [rad/s]")

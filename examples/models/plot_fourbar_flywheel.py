@@ -22,6 +22,7 @@ mech = model.mechanism
 linkage = md.Linkage(mech, model.params, scene=model.scenes["steady"])
 print(linkage.describe())
 linkage.plot(paths=model.points)
+plt.show()
 
 # %%
 # Start-up

@@ -29,6 +29,7 @@ print(f"torsion amplitude {amplitudes['phi_2']:.4f} rad (reported 0.0037), "
 print(f"masses 3 and 4: amplitudes {amplitudes['x_3']:.4f} m, {amplitudes['x_4']:.4f} m "
       "(the crank radius, 0.08 m: they follow the rigid law)")
 steady.result.plot()
+plt.show()
 
 # %%
 # The run from rest

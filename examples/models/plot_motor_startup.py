@@ -21,6 +21,7 @@ mech = model.mechanism
 curves = md.characteristic(mech, model.scenes["startup"], model.params)
 print(curves.summary(units={"speed": "rpm"}))
 curves.plot(units={"speed": "rpm"})
+plt.show()
 
 # %%
 # Start-up
@@ -29,6 +30,7 @@ curves.plot(units={"speed": "rpm"})
 res = mech.simulate(model.scenes["startup"], model.params)
 print(res.summary(units={"speed": "rpm", "power": "kW"}))
 res.plot(units={"speed": "rpm", "power": "kW"})
+plt.show()
 
 # %%
 # Braking

@@ -30,6 +30,7 @@ print("M_red =", derivation.reduced_moment)
 running = md.steady_running(mech, model.scenes["steady"], model.params)
 print(running.summary())
 running.plot()
+plt.show()
 
 # %%
 # The flywheel for delta = 1/50

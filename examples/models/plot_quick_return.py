@@ -28,6 +28,7 @@ cut, back = math.pi + 2 * math.asin(r / d), math.pi - 2 * math.asin(r / d)
 print(f"by hand: cutting {math.degrees(cut):.1f} deg, return {math.degrees(back):.1f} deg, "
       f"time ratio {cut / back:.4f}")
 linkage.plot()
+plt.show()
 
 # %%
 # Steady running

@@ -33,6 +33,7 @@ res = mech.simulate(model.scenes["braking"], model.params)
 print(res.summary())
 print(res.events)
 res.plot()
+plt.show()
 
 # %%
 # Closed form against the simulation

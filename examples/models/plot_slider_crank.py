@@ -34,6 +34,7 @@ print(f"I_red from {values.min():.5f} to {values.max():.5f} kg m^2 over a turn")
 res = mech.simulate(model.scenes["startup"], model.params)
 print(res.summary())
 res.plot()
+plt.show()
 
 # %%
 # The speed against the crank angle

@@ -21,6 +21,7 @@ mech = model.mechanism
 linkage = md.Linkage(mech, model.params, scene=model.scenes["steady"])
 print(linkage.describe())
 linkage.plot()
+plt.show()
 
 # %%
 # Steady running

@@ -23,6 +23,7 @@ print(res.summary())
 print([(event.kind, round(event.time, 4)) for event in res.events])
 print(f"held by the gear: loss moment {res.final('worm gear.loss'):.4f} N m")
 res.plot()
+plt.show()
 
 # %%
 # Lowering
