@@ -27,7 +27,8 @@ omega_1 = M * t_1 / J
 impacts = [event for event in res.events if event.kind == "impact"]
 print(f"first impact at t = {impacts[0].time:.6f} s (by hand {t_1:.6f} s), "
       f"impulse {impacts[0].value:.6f} (by hand {(1 + e) * J * omega_1:.6f})")
-print(f"{len(impacts)} impacts; at rest by hand at t = "
-      f"{t_1 + 2 * e * omega_1 * J / ((1 - e) * M):.6f} s")
+rest = next(event for event in res.events if event.kind == "contact")
+print(f"{len(impacts)} impacts; resting on the stop from t = {rest.time:.6f} s "
+      f"(by hand {t_1 + 2 * e * omega_1 * J / ((1 - e) * M):.6f} s)")
 res.plot()
 plt.show()

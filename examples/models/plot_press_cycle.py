@@ -28,5 +28,5 @@ print(cycle.summary(units={"speed": "rpm", "power": "kW"}))
 braking = cycle.phase("braking")
 print(f"braking: {braking.end - braking.start:.3f} s, "
       f"brake work {braking.energy.work['brake'] / 1e3:.2f} kJ")
-cycle.plot(units={"speed": "rpm", "power": "kW"})
+cycle.plot(units={"speed": "rpm", "power": "kW", "workpiece": "kN"})
 plt.show()
