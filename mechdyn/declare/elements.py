@@ -30,7 +30,22 @@ class Link(Element):
     about the centre of mass, rotation ``angle``. All positions are expressions of the
     coordinates (and possibly of ``md.t`` for an imposed motion). ``points``: pairs
     ``(x, y)`` an animation draws as the link's outline (joints, ends); they do not
-    enter the dynamics."""
+    enter the dynamics.
+
+    Examples
+    --------
+    >>> import sympy as sp, mechdyn as md
+    >>> phi = md.coordinate("phi")
+    >>> l = sp.Symbol("l", positive=True)
+    >>> md.Link("rod", m=2, x=l * sp.cos(phi) / 2, y=l * sp.sin(phi) / 2, angle=phi)
+    Link(name='rod', tags=(), m=2, J=0, x=l*cos(phi(t))/2, y=l*sin(phi(t))/2, angle=phi(t))
+
+    ``Mechanism.link`` declares one and adds it:
+
+    >>> crank = md.Mechanism("crank", [phi])
+    >>> crank.link("disc", J=sp.Rational(1, 2), angle=phi).J
+    1/2
+    """
     m: object = 0
     J: object = 0
     x: object = 0
@@ -76,6 +91,18 @@ class Load(Element):
     (value and motion opposed) the drive must supply ``value/eta``; when it feeds power
     back only ``value*eta`` arrives. ``on`` names the link(s) it acts on, for
     kinetostatics (joint reactions); without it the link is found from ``along``.
+
+    Examples
+    --------
+    >>> import sympy as sp, mechdyn as md
+    >>> phi = md.coordinate("phi")
+    >>> yoke = md.Mechanism("yoke", [phi])
+    >>> _ = yoke.link("crank", J=1, angle=phi)
+    >>> _ = yoke.load("resistance", 100, along=sp.cos(phi))   # 100 N along x = cos(phi) m
+    >>> yoke.reduced_moment()
+    -100*sin(phi)
+    >>> md.Load("drive", 5, along=phi, efficiency=0.9).efficiency
+    0.900000000000000
     """
     value: object = 0
     along: object = None
@@ -162,7 +189,16 @@ class _OnStretch(Element):
 class Spring(_OnStretch):
     """A linear spring of stiffness ``k`` on the ``stretch`` (an expression that is zero
     when the spring is relaxed): potential ``k stretch^2 / 2``, force ``-k stretch``.
-    A stiffness that varies (a gear mesh) acts as the force ``-k(q, t) stretch``."""
+    A stiffness that varies (a gear mesh) acts as the force ``-k(q, t) stretch``.
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> phi_1, phi_2 = md.coordinates("phi_1 phi_2")
+    >>> shaft = md.Spring("shaft", 2000, stretch=phi_2 - phi_1)
+    >>> shaft.k, shaft.stretch
+    (2000, -phi_1(t) + phi_2(t))
+    """
     k: object = 0
     stretch: object = 0
 
@@ -183,7 +219,18 @@ class Spring(_OnStretch):
 @dataclass(frozen=True)
 class Damper(_OnStretch):
     """A linear viscous damper ``c`` on the rate of ``stretch``: Rayleigh dissipation
-    ``c stretch'^2 / 2``, force ``-c stretch'``."""
+    ``c stretch'^2 / 2``, force ``-c stretch'``.
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> x = md.coordinate("x")
+    >>> shock = md.Mechanism("shock absorber", [x], units={x: "m"})
+    >>> _ = shock.link("mass", m=1, x=x)
+    >>> _ = shock.damper("damper", 40, stretch=x)
+    >>> shock.equations().forcing
+    Matrix([[-40*xdot]])
+    """
     c: object = 0
     stretch: object = 0
 
@@ -208,7 +255,20 @@ class Damper(_OnStretch):
 
 @dataclass(frozen=True)
 class Gravity(Element):
-    """Uniform gravity ``g`` along -y: potential ``m g y`` of every link."""
+    """Uniform gravity ``g`` along -y: potential ``m g y`` of every link.
+
+    Examples
+    --------
+    >>> import sympy as sp, mechdyn as md
+    >>> theta = md.coordinate("theta")
+    >>> m, l, g = sp.symbols("m l g", positive=True)
+    >>> pendulum = md.Mechanism("pendulum", [theta])
+    >>> _ = pendulum.link("bob", m=m, x=l * sp.sin(theta), y=-l * sp.cos(theta))
+    >>> pendulum.gravity(g)
+    Gravity(name='gravity', tags=(), g=g)
+    >>> pendulum.reduced_moment()
+    -g*l*m*sin(theta)
+    """
     g: object = 9.81
 
     DEPENDS = {"g": ""}
@@ -236,7 +296,22 @@ class Friction(Element):
     """Coulomb friction (a brake) of magnitude ``moment`` along ``along``: opposes
     sliding with ``moment`` (which may depend on the sliding speed: Stribeck, tables),
     and holds at rest while the other loads stay within ``peak * moment`` (static
-    friction, MSL's ``tau0_max = peak * tau0``; ``peak >= 1``)."""
+    friction, MSL's ``tau0_max = peak * tau0``; ``peak >= 1``).
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> phi = md.coordinate("phi")
+    >>> brake = md.Mechanism("brake", [phi])
+    >>> _ = brake.link("disc", J=0.4, angle=phi)
+    >>> brake.friction("shoe", 0.8, along=phi, peak=1.2).peak
+    1.20000000000000
+    >>> try:
+    ...     md.Friction("shoe", 0.8, along=phi, peak=0.5)
+    ... except md.DeclarationError as error:
+    ...     print(error)
+    friction 'shoe': peak = 0.5 must be at least 1 (static friction is never below sliding friction)
+    """
     moment: object = 0
     along: object = None
     peak: object = 1
