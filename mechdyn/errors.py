@@ -49,7 +49,20 @@ class ParameterError(MechdynError, ValueError):
 
 
 class SimulationError(MechdynError, RuntimeError):
-    """The integration failed; ``partial`` holds the result computed up to the failure."""
+    """The integration failed; ``partial`` holds the result computed up to the failure.
+
+    Examples
+    --------
+    A run stopped by its step budget keeps what it computed:
+
+    >>> import mechdyn as md
+    >>> model = md.load_model("shoe_brake")
+    >>> try:
+    ...     model.mechanism.simulate(model.scenes["braking"], model.params, max_steps=2)
+    ... except md.SimulationError as error:
+    ...     print(type(error).__name__, error.partial.reason.split(" of ")[0])
+    SimulationError failed: integration stopped at t = 50 s
+    """
 
     def __init__(self, message, partial=None):
         super().__init__(message)
