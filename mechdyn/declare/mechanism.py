@@ -235,9 +235,11 @@ class Mechanism(Couplings):
 
     @property
     def independent(self) -> tuple:
-        """The independent coordinates: all of them without loops; with loops the ones
-        given as ``independent=`` or else the first ``n - m``. Checked: ``m`` scalar
-        constraints must leave at least one."""
+        """The independent coordinates.
+
+        All of them without loops; with loops the ones given as ``independent=``, or
+        else the first ``n - m``. Checked: ``m`` scalar constraints must leave at
+        least one."""
         m = sum(len(c.equations) for c in self.constraints.values())
         n = len(self.coordinates)
         if m >= n:
