@@ -91,8 +91,6 @@ class Floquet:
     >>> multipliers = md.floquet(oscillator, md.Scene("free", t_end=1), {}, period=2 * sp.pi)
     >>> abs(multipliers.multipliers).round(6), round(float(sp.exp(-0.4 * sp.pi)), 6)
     (array([0.28461, 0.28461]), 0.28461)
-    >>> multipliers.verdict
-    'asymptotically stable'
     """
     multipliers: np.ndarray
     monodromy: np.ndarray

@@ -38,7 +38,7 @@ class AssemblyError(SceneError):
     Examples
     --------
     A triple rocker (ground 2, crank 3, coupler 3.5, rocker 5) does not close at
-    ``phi = 0`` (its crank swings between +-0.46 rad the long way round):
+    ``phi = 0`` (its crank reaches only 0.46 rad to ``2 pi - 0.46`` rad):
 
     >>> import mechdyn as md
     >>> phi, th2, th3 = md.coordinates("phi theta_2 theta_3")
