@@ -26,7 +26,9 @@ class Joint(Element):
     Examples
     --------
     >>> import mechdyn as md
-    >>> crank = md.Mechanism("crank", [md.coordinate("phi")])
+    >>> phi = md.coordinate("phi")
+    >>> crank = md.Mechanism("crank", [phi])
+    >>> _ = crank.link("crank", J=1, angle=phi)
     >>> crank.joint("O", ("frame", "crank"), at=(0, 0)).kind
     'revolute'
     """
