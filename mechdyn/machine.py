@@ -80,8 +80,8 @@ class Mechanism(declared.Mechanism):
 
     def sensitivities(self, scene, params, wrt, measures=("t_end",), **options):
         """Exact derivatives of ``measures`` with respect to the parameters ``wrt`` from
-        the forward sensitivity equations (a :class:`~mechdyn.analyse.sensitivity_result.
-        Sensitivities`); ``options``: ``cycle``, ``speed_guess`` of
+        the forward sensitivity equations (a :class:`~mechdyn.Sensitivities`);
+        ``options``: ``cycle``, ``speed_guess`` of
         :func:`mechdyn.analyse.sensitivities.sensitivities`."""
         from mechdyn.analyse.sensitivities import sensitivities
         return sensitivities(self, scene, params or {}, wrt, measures, **options)

@@ -38,7 +38,22 @@ _ALLOWED = "only numbers, + - * / ** and pi, e, sqrt, sin, cos, tan, exp, log ar
 
 
 class ValueTextError(MechdynError, ValueError):
-    """Text that is not an allowed numeric expression."""
+    """Text that is not an allowed numeric expression.
+
+    Examples
+    --------
+    The restricted parser evaluates arithmetic, nothing else:
+
+    >>> import mechdyn as md
+    >>> from mechdyn.parse import number
+    >>> number("2*pi")
+    6.283185307179586
+    >>> try:
+    ...     number("__import__('os')")
+    ... except md.ValueTextError as error:
+    ...     print(type(error).__name__)
+    ValueTextError
+    """
 
 
 def number(text: str) -> float:

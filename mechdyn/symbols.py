@@ -29,8 +29,15 @@ t = sp.Symbol("t", real=True)
 def coordinate(name: str) -> sp.Expr:
     """A generalized coordinate: the function ``name(t)`` of the time ``md.t``.
 
+    Examples
+    --------
     >>> coordinate("phi_2")
     phi_2(t)
+
+    >>> coordinate("t")
+    Traceback (most recent call last):
+    ...
+    mechdyn.errors.DeclarationError: coordinate name 't' is the time md.t; name the coordinate otherwise (x, s, phi, ...)
     """
     if not isinstance(name, str) or not name.isidentifier():
         raise DeclarationError(f"coordinate name must be an identifier (letters, digits, "
@@ -44,6 +51,8 @@ def coordinate(name: str) -> sp.Expr:
 def coordinates(names: str) -> tuple:
     """Several coordinates from one string of names separated by spaces or commas.
 
+    Examples
+    --------
     >>> coordinates("phi_1 phi_2")
     (phi_1(t), phi_2(t))
     """
@@ -61,13 +70,31 @@ def _check_coordinate(q):
 
 
 def speed(q) -> sp.Expr:
-    """The speed dq/dt of a coordinate (an angular speed for an angle)."""
+    """The speed dq/dt of a coordinate (an angular speed for an angle).
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> phi = md.coordinate("phi")
+    >>> md.speed(phi)
+    Derivative(phi(t), t)
+    >>> md.plain(md.speed(phi))
+    phidot
+    """
     _check_coordinate(q)
     return sp.Derivative(q, t)
 
 
 def acceleration(q) -> sp.Expr:
-    """The acceleration d2q/dt2 of a coordinate."""
+    """The acceleration d2q/dt2 of a coordinate.
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> x = md.coordinate("x")
+    >>> md.acceleration(x), md.plain(md.acceleration(x))
+    (Derivative(x(t), (t, 2)), xddot)
+    """
     _check_coordinate(q)
     return sp.Derivative(q, (t, 2))
 
@@ -96,6 +123,13 @@ def plain(expr) -> sp.Symbol:
     """The plain symbol of a coordinate, its speed or its acceleration.
 
     Reduced quantities and derived equations are written in these symbols.
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> phi_2 = md.coordinate("phi_2")
+    >>> md.plain(phi_2), md.plain(md.speed(phi_2)), md.plain(md.acceleration(phi_2))
+    (phi_2, phidot_2, phiddot_2)
     """
     if is_coordinate(expr):
         return dotted_symbol(expr.func.__name__, 0)
@@ -128,6 +162,8 @@ def difference(derived, formula):
     are written in; ``sp.Symbol("J_1")`` the positive ``J_1`` a mechanism declared).
     Zero when the two agree; otherwise what is left over. Works on matrices alike.
 
+    Examples
+    --------
     >>> import sympy as sp
     >>> phi, J = sp.Symbol("phi", real=True), sp.Symbol("J", positive=True)
     >>> derived = J + sp.sin(phi) ** 2
@@ -154,6 +190,8 @@ def same(derived, formula) -> bool:
     """Whether a derived result equals a hand formula, symbols matched by name
     (:func:`difference` is 0).
 
+    Examples
+    --------
     >>> import sympy as sp
     >>> same(sp.sin(sp.Symbol("phi", real=True)) ** 2, 1 - sp.cos(sp.Symbol("phi")) ** 2)
     True

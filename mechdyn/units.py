@@ -8,6 +8,8 @@ pint quantities, checks the dimension against the unit expected and returns the 
 value. Units come from pint, imported on first need only: each unit's dimension and SI
 factor is remembered in mechdyn's cache folder, so a warm run imports no pint.
 
+Examples
+--------
 >>> to_si("0.02 kN", "N")
 20.0
 >>> to_si("1500 rpm", "rad/s")        # 50 pi
@@ -41,7 +43,17 @@ _BASES = {"[mass]": "kg", "[length]": "m", "[time]": "s", "[current]": "A",
 
 
 class UnitError(MechdynError, ValueError):
-    """An unknown unit, or a value whose dimension does not fit."""
+    """An unknown unit, or a value whose dimension does not fit.
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> try:
+    ...     md.to_si("1500 rpm", "N*m")
+    ... except md.UnitError as error:
+    ...     print(error)
+    '1500 rpm': rpm (read as revolutions_per_minute) is a rate or angular speed but N*m (a moment or an energy) is expected
+    """
 
 
 class Dimension:
@@ -266,6 +278,18 @@ def to_si(value, unit=None) -> float:
 
     Texts convert exactly where they can: the decimal ``0.02`` times the factor 1000 of
     ``kN`` gives 20.0, the same float as typing ``20``.
+
+    Raises
+    ------
+    UnitError
+        An unknown unit, a text that is not a number with a unit, or a dimension that
+        does not fit ``unit``.
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> md.to_si("0.02 kN", "N"), md.to_si(3), md.to_si("2 min", "s")
+    (20.0, 3.0, 120.0)
     """
     if isinstance(value, bool) or value is None:
         raise UnitError(f"{value!r} is not a value")

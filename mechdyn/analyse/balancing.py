@@ -40,7 +40,20 @@ __all__ = ["Counterweight", "Balance", "balance"]
 @dataclass(frozen=True)
 class Counterweight:
     """A counterweight: ``mass_radius`` (kg m) at ``angle`` (rad) ahead of the crank
-    angle (for the counter-rotating shaft: at ``angle - phi``)."""
+    angle (for the counter-rotating shaft: at ``angle - phi``).
+
+    Examples
+    --------
+    >>> import numpy as np, sympy as sp, mechdyn as md
+    >>> phi = md.coordinate("phi")
+    >>> yoke = md.Mechanism("Scotch yoke", [phi])
+    >>> _ = yoke.link("crank", J=1, angle=phi)
+    >>> _ = yoke.link("yoke", m=2, x=0.1 * sp.cos(phi))
+    >>> plan = md.balance(yoke, {})
+    >>> weight = plan.crank
+    >>> round(weight.mass_radius, 12), round(float(np.degrees(weight.angle)), 6)
+    (0.1, 180.0)
+    """
     mass_radius: float
     angle: float
 
@@ -57,7 +70,23 @@ class Balance:
     """The first harmonic of the shaking force per ``omega^2`` (``forward``,
     ``backward``: complex amplitudes ``c_plus``, ``c_minus``, in kg m), the
     counterweights that cancel them (``crank``, ``counter_rotating``), and the
-    amplitude of every harmonic (``harmonics[k]``, kg m per ``omega^2``)."""
+    amplitude of every harmonic (``harmonics[k]``, kg m per ``omega^2``).
+
+    Examples
+    --------
+    >>> import numpy as np, sympy as sp, mechdyn as md
+    >>> phi = md.coordinate("phi")
+    >>> yoke = md.Mechanism("Scotch yoke", [phi])
+    >>> _ = yoke.link("crank", J=1, angle=phi)
+    >>> _ = yoke.link("yoke", m=2, x=0.1 * sp.cos(phi))
+    >>> plan = md.balance(yoke, {})
+    >>> np.round([plan.forward.real, plan.backward.real], 12)   # c_plus = c_minus = m r / 2
+    array([0.1, 0.1])
+    >>> np.round([plan.forward.imag, plan.backward.imag], 12) + 0.0
+    array([0., 0.])
+    >>> plan.harmonics[1:3].round(12)                   # first harmonic only
+    array([0.2, 0. ])
+    """
     forward: complex
     backward: complex
     crank: Counterweight
@@ -76,7 +105,26 @@ def _weight(amplitude: complex) -> Counterweight:
 
 def balance(mech, params, scene=None, guess=None, points=256, start=0.0) -> Balance:
     """Counterweights cancelling the first harmonic of the shaking force of a one-DOF
-    mechanism turning uniformly (crank angle from ``start`` over a revolution)."""
+    mechanism turning uniformly (crank angle from ``start`` over a revolution).
+
+    Returns
+    -------
+    Balance
+
+    Examples
+    --------
+    A Scotch yoke's 2 kg slide on a 0.1 m crank shakes with ``m r omega^2 cos(phi)``
+    along x: half turns with the crank, half against it:
+
+    >>> import numpy as np, sympy as sp, mechdyn as md
+    >>> phi = md.coordinate("phi")
+    >>> yoke = md.Mechanism("Scotch yoke", [phi])
+    >>> _ = yoke.link("crank", J=1, angle=phi)
+    >>> _ = yoke.link("yoke", m=2, x=0.1 * sp.cos(phi))
+    >>> plan = md.balance(yoke, {})
+    >>> round(plan.crank.mass_radius, 12), round(plan.counter_rotating.mass_radius, 12)
+    (0.1, 0.1)
+    """
     phi = start + 2 * np.pi * np.arange(points) / points
     force, _ = shaking(mech, params, phi, omega=1.0, scene=scene, guess=guess)
     complex_force = force[0] + 1j * force[1]

@@ -37,7 +37,20 @@ _GRID = 4001          # speeds scanned for balances
 
 
 class CharacteristicError(MechdynError, ValueError):
-    """A machine or scene whose characteristics cannot be drawn (several DOF, no drive)."""
+    """A machine or scene whose characteristics cannot be drawn (several DOF, no drive).
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> x, y = md.coordinates("x y")
+    >>> table = md.Mechanism("table", [x, y])
+    >>> _ = table.link("slide", m=1, x=x, y=y)
+    >>> try:
+    ...     md.characteristic(table)
+    ... except md.CharacteristicError as error:
+    ...     print(type(error).__name__)
+    CharacteristicError
+    """
 
 
 @dataclass(frozen=True)
@@ -73,7 +86,22 @@ class OperatingPoint:
 
 @dataclass
 class Characteristic:
-    """Motor and load moments over ``speeds`` and the operating ``points``."""
+    """Motor and load moments over ``speeds`` and the operating ``points``.
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> phi = md.coordinate("phi")
+    >>> fan = md.Mechanism("fan", [phi])
+    >>> _ = fan.link("rotor", J=0.5, angle=phi)
+    >>> _ = fan.load("motor", md.motors.dc_shunt(100, 200)(md.speed(phi)), along=phi)
+    >>> _ = fan.load("air", -0.005 * md.speed(phi)**2, along=phi)
+    >>> curves = md.characteristic(fan, speeds=(0, 200))
+    >>> curves
+    <Characteristic 'fan': 1 operating point(s) over 4001 speeds>
+    >>> curves.drive, float(curves.motor[0]), float(curves.load[-1])   # at 0 and 200 rad/s
+    (('motor',), 100.0, 200.0)
+    """
     name: str
     coordinate: str
     drive: tuple
@@ -150,6 +178,25 @@ def characteristic(mechanism, scene=None, params=None, drive=None, speeds=None,
         no-load speed.
     cycle : float
         Period of the coordinate for position-dependent moments (their mean is used).
+
+    Returns
+    -------
+    Characteristic
+
+    Examples
+    --------
+    A shunt motor ``100 (1 - omega/200)`` against air drag ``0.005 omega^2`` balances at
+    100 rad/s:
+
+    >>> import mechdyn as md
+    >>> phi = md.coordinate("phi")
+    >>> fan = md.Mechanism("fan", [phi])
+    >>> _ = fan.link("rotor", J=0.5, angle=phi)
+    >>> _ = fan.load("motor", md.motors.dc_shunt(100, 200)(md.speed(phi)), along=phi)
+    >>> _ = fan.load("air", -0.005 * md.speed(phi)**2, along=phi)
+    >>> (point,) = md.characteristic(fan).points
+    >>> round(point.speed, 6), point.stable
+    (100.0, True)
     """
     values = ParameterSet(params, mechanism=mechanism, scene=scene)   # before deriving
     eqs = mechanism.equations(scene)

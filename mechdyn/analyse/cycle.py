@@ -48,7 +48,20 @@ _SAME, _SAME_ABSOLUTE = 1e-6, 1e-9   # agreement of a restated initial value (SI
 
 class DutyCycleError(SceneError):
     """A duty cycle that cannot run: no phases, an unknown scene, phases with different
-    coordinates, or a later phase whose initial values break the state's continuity."""
+    coordinates, or a later phase whose initial values break the state's continuity.
+
+    Examples
+    --------
+    A second braking phase would start at 100 rad/s where the first ended at rest:
+
+    >>> import mechdyn as md
+    >>> model = md.load_model("shoe_brake")
+    >>> try:
+    ...     md.duty_cycle(model, "braking+braking")
+    ... except md.DutyCycleError as error:
+    ...     print(type(error).__name__)
+    DutyCycleError
+    """
 
 
 def phase_scenes(phases, scenes=None) -> list:
@@ -97,6 +110,19 @@ def duty_cycle(model, phases, params=None, *, progress=None, max_wall_time=None)
 
     Returns a :class:`~mechdyn.analyse.cycle_result.CycleResult`. A phase that fails raises
     :class:`SimulationError` naming the phase, with ``error.partial`` the cycle so far.
+
+    Examples
+    --------
+    The disc of the shoe brake coasts for a second, then brakes (the angle is free, so
+    the braking scene's ``phi = 0`` may restart it; its speed must and does match):
+
+    >>> import mechdyn as md
+    >>> model = md.load_model("shoe_brake")
+    >>> phi = model.mechanism.coordinates[0]
+    >>> coast = md.Scene("coast", effects=[], initial={phi: 0, md.speed(phi): 100}, t_end=1)
+    >>> cycle = md.duty_cycle(model, [coast, "braking"])
+    >>> [(p.name, round(p.start, 9), round(p.end, 9)) for p in cycle.phases]
+    [('coast', 0.0, 1.0), ('braking', 1.0, 51.0)]
     """
     from mechdyn.compile.compiler import compile_scene
     from mechdyn.analyse.cycle_result import CycleResult, Phase

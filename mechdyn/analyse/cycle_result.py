@@ -94,7 +94,20 @@ class CycleResult(SeriesResult):
     ``y``, ``res[key]``, ``final(key)``, ``at(times, key)``, ``outputs``,
     ``outputs_at(times)``, ``accelerations_at(times)``, ``events`` (cycle time),
     ``reason``, ``t_end``, ``stats``, ``units``, ``columns(sample)``, ``to_csv``,
-    ``to_pandas``, ``plot``, ``summary``."""
+    ``to_pandas``, ``plot``, ``summary``.
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> model = md.load_model("shoe_brake")
+    >>> phi = model.mechanism.coordinates[0]
+    >>> coast = md.Scene("coast", effects=[], initial={phi: 0, md.speed(phi): 100}, t_end=1)
+    >>> cycle = md.duty_cycle(model, [coast, "braking"])
+    >>> round(cycle.t_end, 9), cycle.reason
+    (51.0, 'stopped(phi)')
+    >>> cycle.at([0.5, 11.0], "phidot").round(9)           # coasting, then 10 s braked
+    array([100.,  80.])
+    """
 
     def __init__(self, mechanism_name, phases):
         self.mechanism_name, self.phases = mechanism_name, list(phases)

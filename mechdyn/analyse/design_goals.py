@@ -44,11 +44,37 @@ _ALLOWED = "only numbers, parameter names, + - * / ** and parentheses are allowe
 
 
 class OptimizeError(MechdynError, ValueError):
-    """A sizing problem that cannot be set up (bounds, goals) or was not solved."""
+    """A sizing problem that cannot be set up (bounds, goals) or was not solved.
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> brake = md.load_model("shoe_brake")
+    >>> try:
+    ...     md.optimize(brake.mechanism, brake.scenes["braking"], brake.params,
+    ...                 vary={"P": (100, 1)}, minimize="t_end")
+    ... except md.OptimizeError as error:
+    ...     print(type(error).__name__)
+    OptimizeError
+    """
 
 
 class GoalError(OptimizeError):
-    """An objective or constraint that cannot be read."""
+    """An objective or constraint that cannot be read.
+
+    Examples
+    --------
+    Goals are read, never evaluated:
+
+    >>> import mechdyn as md
+    >>> brake = md.load_model("shoe_brake")
+    >>> try:
+    ...     md.optimize(brake.mechanism, brake.scenes["braking"], brake.params,
+    ...                 vary={"P": (1, 100)}, minimize="__import__('os')")
+    ... except md.GoalError as error:
+    ...     print(type(error).__name__)
+    GoalError
+    """
 
 
 @dataclass(frozen=True)

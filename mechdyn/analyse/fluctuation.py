@@ -20,27 +20,6 @@ fluctuation ``delta = (omega_max - omega_min) / omega_mean``. :func:`flywheel` s
 ``delta(J) = target`` for a flywheel parameter ``J`` (brentq on ``log J``) and compares
 with the textbook ``J = Delta E_max / (delta omega_mean^2)``, ``Delta E_max`` the largest
 swing of the excess work ``W(phi) = integral (M(phi, omega_mean) - mean M) dphi``.
-
->>> import sympy as sp, mechdyn as md
->>> phi = md.coordinate("phi")
->>> J = sp.Symbol("J", positive=True)
->>> machine = md.Mechanism("machine", [phi])
->>> _ = machine.link("crank and flywheel", J=J, angle=phi)
->>> _ = machine.load("motor", md.motors.dc_shunt(400, 110)(md.speed(phi)), along=phi)
->>> _ = machine.load("process", 20 * sp.cos(phi), along=phi)
->>> scene = md.Scene("run", initial={phi: 0, md.speed(phi): 100}, t_end=1)
->>> running = md.steady_running(machine, scene, {J: 2})
->>> round(running.omega_mean, 3)       # the motor balances at 110 (1 - 0) = 110 rad/s
-110.0
->>> round(running.delta, 4)            # 2 A / (omega sqrt((J omega)^2 + b^2)), b = 400/110
-0.0017
-
-The flywheel for ``delta = 0.01``: ``J = 0.3289`` (from the linearised ``delta`` above);
-the textbook ``Delta E_max = 2 A = 40 J`` gives ``40 / (0.01 * 110^2) = 0.3306``:
-
->>> sized = md.flywheel(machine, scene, {J: 2}, delta=0.01, inertia=J)
->>> round(sized.inertia, 4), round(sized.textbook, 4)
-(0.3289, 0.3306)
 """
 from __future__ import annotations
 
@@ -81,6 +60,19 @@ class SteadyRunning:
     ``omega_min``, ``delta`` (coefficient of speed fluctuation), ``floquet`` (the cycle
     map's multiplier), ``name`` (mechanism and scene); ``outputs_at(phi)`` the scene's
     outputs over the cycle. ``repr`` is a one-line summary, ``summary()`` a few lines.
+
+    Examples
+    --------
+    >>> import sympy as sp, mechdyn as md
+    >>> phi, J = md.coordinate("phi"), sp.Symbol("J", positive=True)
+    >>> machine = md.Mechanism("machine", [phi])
+    >>> _ = machine.link("crank and flywheel", J=J, angle=phi)
+    >>> _ = machine.load("motor", md.motors.dc_shunt(400, 110)(md.speed(phi)), along=phi)
+    >>> _ = machine.load("process", 20 * sp.cos(phi), along=phi)
+    >>> scene = md.Scene("run", initial={phi: 0, md.speed(phi): 100}, t_end=1)
+    >>> running = md.steady_running(machine, scene, {J: 2})
+    >>> round(running.omega_max - running.omega_min, 3)     # delta * omega_mean
+    0.182
     """
     phi: np.ndarray
     omega: np.ndarray
@@ -197,6 +189,30 @@ def steady_running(mechanism, scene, params, cycle=2 * math.pi, *,
     Returns
     -------
     SteadyRunning
+
+    Raises
+    ------
+    PeriodicError
+        Friction, stops or one-way elements in the scene, several coordinates or a time
+        dependence, no convergence.
+
+    Examples
+    --------
+    A shunt motor ``400 (1 - omega/110)`` against a process moment ``20 cos(phi)`` on a
+    flywheel ``J``:
+
+    >>> import sympy as sp, mechdyn as md
+    >>> phi, J = md.coordinate("phi"), sp.Symbol("J", positive=True)
+    >>> machine = md.Mechanism("machine", [phi])
+    >>> _ = machine.link("crank and flywheel", J=J, angle=phi)
+    >>> _ = machine.load("motor", md.motors.dc_shunt(400, 110)(md.speed(phi)), along=phi)
+    >>> _ = machine.load("process", 20 * sp.cos(phi), along=phi)
+    >>> scene = md.Scene("run", initial={phi: 0, md.speed(phi): 100}, t_end=1)
+    >>> running = md.steady_running(machine, scene, {J: 2})
+    >>> round(running.omega_mean, 3)       # the motor balances at 110 (1 - 0) = 110 rad/s
+    110.0
+    >>> round(running.delta, 4)            # 2 A / (omega sqrt((J omega)^2 + b^2)), b = 400/110
+    0.0017
     """
     eqs, values = _check(mechanism, scene, params)
     cycle = float(cycle)
@@ -262,6 +278,19 @@ class Flywheel:
     the parameter's value: less the machine's own mean reduced inertia, divided by the
     parameter's coefficient in ``I_red``), ``own_inertia`` (mean ``I_red`` without the
     flywheel).
+
+    Examples
+    --------
+    >>> import sympy as sp, mechdyn as md
+    >>> phi, J = md.coordinate("phi"), sp.Symbol("J", positive=True)
+    >>> machine = md.Mechanism("machine", [phi])
+    >>> _ = machine.link("crank and flywheel", J=J, angle=phi)
+    >>> _ = machine.load("motor", md.motors.dc_shunt(400, 110)(md.speed(phi)), along=phi)
+    >>> _ = machine.load("process", 20 * sp.cos(phi), along=phi)
+    >>> scene = md.Scene("run", initial={phi: 0, md.speed(phi): 100}, t_end=1)
+    >>> sized = md.flywheel(machine, scene, {J: 2}, delta=0.01, inertia=J)
+    >>> sized.parameter, sized.target, round(sized.energy_swing, 3)   # Delta E_max = 2 A
+    (J, 0.01, 40.0)
     """
     parameter: sp.Symbol
     inertia: float
@@ -307,8 +336,21 @@ def flywheel(mechanism, scene, params, delta, inertia, cycle=2 * math.pi, *,
 
     Examples
     --------
-    The module's example: its machine, ``J w w' = 400 (1 - w/110) + 20 cos(phi)``, needs
-    ``J = 0.3289`` for ``delta = 2 A / (w sqrt((J w)^2 + b^2)) = 0.01`` (linearised).
+    The machine of :func:`steady_running`, ``J w w' = 400 (1 - w/110) + 20 cos(phi)``,
+    needs ``J = 0.3289`` for ``delta = 2 A / (w sqrt((J w)^2 + b^2)) = 0.01``
+    (linearised); the textbook ``Delta E_max = 2 A = 40 J`` gives
+    ``40 / (0.01 * 110^2) = 0.3306``:
+
+    >>> import sympy as sp, mechdyn as md
+    >>> phi, J = md.coordinate("phi"), sp.Symbol("J", positive=True)
+    >>> machine = md.Mechanism("machine", [phi])
+    >>> _ = machine.link("crank and flywheel", J=J, angle=phi)
+    >>> _ = machine.load("motor", md.motors.dc_shunt(400, 110)(md.speed(phi)), along=phi)
+    >>> _ = machine.load("process", 20 * sp.cos(phi), along=phi)
+    >>> scene = md.Scene("run", initial={phi: 0, md.speed(phi): 100}, t_end=1)
+    >>> sized = md.flywheel(machine, scene, {J: 2}, delta=0.01, inertia=J)
+    >>> round(sized.inertia, 4), round(sized.textbook, 4)
+    (0.3289, 0.3306)
     """
     eqs, values = _check(mechanism, scene, params)
     if not 0 < float(delta) < 1:

@@ -25,7 +25,22 @@ _FIT_TOLERANCE = 1e-9
 
 class KinetostaticsError(MechdynError, ValueError):
     """Joints or loads that do not determine the reactions (a link without joints, a
-    load whose link cannot be told, a statically indeterminate set of joints)."""
+    load whose link cannot be told, a statically indeterminate set of joints).
+
+    Examples
+    --------
+    A link without joints:
+
+    >>> import sympy as sp, mechdyn as md
+    >>> phi = md.coordinate("phi")
+    >>> crank = md.Mechanism("disc", [phi])
+    >>> _ = crank.link("disc", m=2, J=0.1, x=0.05 * sp.cos(phi), y=0.05 * sp.sin(phi), angle=phi)
+    >>> try:
+    ...     md.kinetostatics(crank, {}, [0.0], omega=10)
+    ... except md.KinetostaticsError as error:
+    ...     print(type(error).__name__)
+    KinetostaticsError
+    """
 
 
 class LinkMotion:

@@ -53,6 +53,29 @@ class Linkage:
     guess_at : float or sequence, optional
         The independent coordinate(s) the guess belongs to (default: those in ``guess``,
         else the scene's initial values, else zero): the linkage is assembled there.
+
+    Raises
+    ------
+    LinkageError
+        No loops or no dependent coordinate, or loops that cannot be closed near the
+        guess.
+
+    Examples
+    --------
+    A crank-rocker (ground 3, crank 1, coupler 3, rocker 2.5):
+
+    >>> import mechdyn as md
+    >>> phi, th2, th3 = md.coordinates("phi theta_2 theta_3")
+    >>> four = md.Mechanism("four-bar", [phi, th2, th3])
+    >>> _ = four.link("crank", J=1, angle=phi)
+    >>> _ = four.link("coupler", J=1, angle=th2)
+    >>> _ = four.link("rocker", J=1, angle=th3)
+    >>> _ = four.loop("ABCD", (1, phi), (3, th2), (-2.5, th3), (-3, 0))
+    >>> linkage = md.Linkage(four, guess={th2: 1, th3: 2})
+    >>> [round(float(v), 8) for v in linkage.position(0.0)]
+    [0.0, 0.97338991, 1.69612416]
+    >>> linkage.grashof().crank_turns
+    True
     """
 
     def __init__(self, mechanism, params=None, guess=None, scene=None, guess_at=None):

@@ -73,7 +73,18 @@ def driving_moment(mech, motion, params=None, scene=None, drive=None,
     """The driving moment a one-DOF machine needs to follow ``motion`` (inverse
     dynamics): the closed form of :func:`mechdyn.derive.inverse.driving_moment` for open
     chains, :func:`loop_driving_moment` for closed loops (``guess``: the dependent
-    coordinates near the start)."""
+    coordinates near the start).
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> phi = md.coordinate("phi")
+    >>> disc = md.Mechanism("disc", [phi])
+    >>> _ = disc.link("disc", J=2, angle=phi)
+    >>> _ = disc.load("brake", -3, along=phi)
+    >>> md.driving_moment(disc, md.uniform_acceleration(5)).expression   # 2 * 5 + 3
+    13
+    """
     if mech.constraints:
         return loop_driving_moment(mech, motion, params, scene, drive, guess)
     return inverse.driving_moment(mech, motion, params, scene, drive, guess)

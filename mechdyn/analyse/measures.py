@@ -58,7 +58,17 @@ __all__ = ["measure", "Measure", "MeasureError", "MEASURES", "STEADY_MEASURES"]
 
 
 class MeasureError(MechdynError, ValueError):
-    """A measure that is unknown, or cannot be taken of the outcome it is given."""
+    """A measure that is unknown, or cannot be taken of the outcome it is given.
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> try:
+    ...     md.measure("fluctuaton")
+    ... except md.MeasureError as error:
+    ...     print(error)
+    unknown measure 'fluctuaton' (did you mean fluctuation?); ...
+    """
 
 
 # name -> (argument: "none", "needed" or "optional", what it is of, fixed unit or None)

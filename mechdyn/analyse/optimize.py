@@ -42,7 +42,18 @@ class Optimum:
     ``constraints`` (rows: text, value, limit, active, multiplier), ``bounds`` (active
     bounds: parameter -> (side, multiplier)), ``simulations`` (runs of the scene or of
     its steady running, each with its sensitivities),
-    ``iterations``, ``success``, ``message``, ``kkt_residual`` (``|grad L| / |grad F|``)."""
+    ``iterations``, ``success``, ``message``, ``kkt_residual`` (``|grad L| / |grad F|``).
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> brake = md.load_model("shoe_brake")
+    >>> best = md.optimize(brake.mechanism, brake.scenes["braking"], brake.params,
+    ...                    vary={"P": (1, 100)}, minimize="P", subject_to=["t_end <= 25 s"])
+    >>> row = best.constraints[0]
+    >>> row["active"], round(row["value"], 6)      # the time limit holds the force up
+    (True, 25.0)
+    """
     values: dict
     objective: float
     goal: str
@@ -89,7 +100,28 @@ def optimize(mechanism, scene, params, vary, minimize=None, subject_to=(), *, ma
     """Choose the parameters ``vary`` ({parameter: (low, high)}) to minimise
     ``minimize`` (or maximise ``maximize``): a measure's name or an expression of
     parameters; ``subject_to``: constraints ``"fluctuation <= 0.05"``, ``"t_end <= 5 s"``,
-    ``"P + Q <= 2 kN"``. Starts from ``params``' values (clipped into the bounds)."""
+    ``"P + Q <= 2 kN"``. Starts from ``params``' values (clipped into the bounds).
+
+    Returns
+    -------
+    Optimum
+
+    Raises
+    ------
+    OptimizeError
+        Bounds, goals or parameters that cannot be used, or a problem not solved.
+
+    Examples
+    --------
+    The least shoe force that stops the brake within 25 s, ``t = I omega_0 / (2 f P R)``:
+
+    >>> import mechdyn as md
+    >>> brake = md.load_model("shoe_brake")
+    >>> best = md.optimize(brake.mechanism, brake.scenes["braking"], brake.params,
+    ...                    vary={"P": (1, 100)}, minimize="P", subject_to=["t_end <= 25 s"])
+    >>> round(best.values["P"], 6), best.success
+    (40.0, True)
+    """
     if (minimize is None) == (maximize is None):
         raise OptimizeError("optimize: give one of minimize= or maximize=")
     values = ParameterSet(params, mechanism=mechanism, scene=scene)

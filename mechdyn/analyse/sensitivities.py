@@ -79,6 +79,23 @@ def sensitivities(mechanism, scene, params, wrt, measures=("t_end",), *, cycle=2
     Returns
     -------
     Sensitivities
+
+    Raises
+    ------
+    SensitivityError
+        An unknown measure or parameter, or a run that changes mode (friction that
+        sticks before the end, stops, loops).
+
+    Examples
+    --------
+    The shoe brake stops after ``t = I omega_0 / (2 f P R)``:
+
+    >>> import mechdyn as md
+    >>> brake = md.load_model("shoe_brake")
+    >>> s = md.sensitivities(brake.mechanism, brake.scenes["braking"], brake.params,
+    ...                      wrt=["I", "P"], measures=["t_end"])
+    >>> round(s.results["t_end"], 9), s.gradients.round(9)   # dt/dI = t/I, dt/dP = -t/P
+    (50.0, array([[125. ,  -2.5]]))
     """
     if backend not in ("auto", "scipy"):
         raise SensitivityError(f"sensitivities: backend must be 'auto' or 'scipy', got "

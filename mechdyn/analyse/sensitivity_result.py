@@ -42,6 +42,17 @@ class Sensitivities:
     measure, one column per parameter), ``units`` (of measures and parameters, SI),
     ``runs`` (simulations or steady-running solves the derivatives took).
     ``result[measure, parameter]`` is one derivative.
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> brake = md.load_model("shoe_brake")
+    >>> s = md.sensitivities(brake.mechanism, brake.scenes["braking"], brake.params,
+    ...                      wrt=["I", "P"], measures=["t_end"])
+    >>> s.parameters, s.measures, round(s["t_end", "P"], 9)
+    (('I', 'P'), ('t_end',), -2.5)
+    >>> s.units["t_end"], s.units["P"]
+    ('s', 'N')
     """
     name: str
     parameters: tuple

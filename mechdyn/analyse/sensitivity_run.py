@@ -23,7 +23,19 @@ _CHUNK = 100_000
 
 class SensitivityError(SceneError):
     """Sensitivities that cannot be derived: an unknown measure or parameter, or a
-    scene whose run changes mode (friction sticking, stops, loops)."""
+    scene whose run changes mode (friction sticking, stops, loops).
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> brake = md.load_model("shoe_brake")
+    >>> try:
+    ...     md.sensitivities(brake.mechanism, brake.scenes["braking"], brake.params,
+    ...                      wrt=["P"], measures=["stop_time"])
+    ... except md.SensitivityError as error:
+    ...     print(type(error).__name__)
+    SensitivityError
+    """
 
 
 def integrate(segment, scene, frictions, peaks, signs, z0) -> tuple:

@@ -26,12 +26,44 @@ _MAX_NEWTON = 30
 
 
 class PeriodicError(MechdynError, ValueError):
-    """A periodic analysis that cannot be done (bad period, no convergence, friction)."""
+    """A periodic analysis that cannot be done (bad period, no convergence, friction).
+
+    Examples
+    --------
+    Steady running needs smooth equations; a brake switches:
+
+    >>> import mechdyn as md
+    >>> model = md.load_model("shoe_brake")
+    >>> phi = model.mechanism.coordinates[0]
+    >>> run = md.Scene("run", initial={phi: 0, md.speed(phi): 100}, t_end=1)
+    >>> try:
+    ...     md.steady_running(model.mechanism, run, model.params)
+    ... except md.PeriodicError as error:
+    ...     print(type(error).__name__)
+    PeriodicError
+    """
 
 
 class NoPeriodicSolutionError(PeriodicError):
     """A Floquet multiplier equals 1: the periodic motion is not unique or does not exist.
-    ``floquet`` holds the multipliers."""
+    ``floquet`` holds the multipliers.
+
+    Examples
+    --------
+    An undamped oscillator forced at its natural frequency (resonance):
+
+    >>> import sympy as sp, mechdyn as md
+    >>> x = md.coordinate("x")
+    >>> oscillator = md.Mechanism("resonant oscillator", [x])
+    >>> _ = oscillator.link("mass", m=1, x=x)
+    >>> _ = oscillator.spring("spring", 1, stretch=x)
+    >>> _ = oscillator.load("force", sp.cos(md.t), along=x)
+    >>> try:
+    ...     md.periodic_steady_state(oscillator, md.Scene("steady", t_end=1), {})
+    ... except md.NoPeriodicSolutionError as error:
+    ...     print(error.floquet.multipliers.round(6))
+    [1. 1.]
+    """
 
     def __init__(self, message, floquet):
         super().__init__(message)
@@ -44,6 +76,21 @@ class Floquet:
 
     Attributes: ``multipliers`` (by decreasing modulus), ``monodromy``, ``period`` (s),
     ``tolerance`` (a modulus within it of 1 counts as 1), ``over`` (what one period is).
+
+    Examples
+    --------
+    The multipliers of the damped oscillator ``x'' + 0.4 x' + 4 x = 0`` over the period
+    ``2 pi`` have the modulus ``exp(-0.2 * 2 pi)``:
+
+    >>> import sympy as sp, mechdyn as md
+    >>> x = md.coordinate("x")
+    >>> oscillator = md.Mechanism("oscillator", [x])
+    >>> _ = oscillator.link("mass", m=1, x=x)
+    >>> _ = oscillator.spring("spring", 4, stretch=x)
+    >>> _ = oscillator.damper("damper", 0.4, stretch=x)
+    >>> multipliers = md.floquet(oscillator, md.Scene("free", t_end=1), {}, period=2 * sp.pi)
+    >>> abs(multipliers.multipliers).round(6), round(float(sp.exp(-0.4 * sp.pi)), 6)
+    (array([0.28461, 0.28461]), 0.28461)
     """
     multipliers: np.ndarray
     monodromy: np.ndarray
@@ -132,6 +179,8 @@ def forcing_period(mechanism, scene, params) -> float:
     Every ``t`` must sit in a ``sin`` or ``cos`` whose argument is ``omega_k t`` plus
     terms free of ``t``, with commensurate ``omega_k``: ``T = 2 pi / gcd(omega_k)``.
 
+    Examples
+    --------
     >>> import sympy as sp, mechdyn as md
     >>> x = md.coordinate("x")
     >>> shaker = md.Mechanism("shaker", [x])

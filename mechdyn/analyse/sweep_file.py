@@ -45,11 +45,41 @@ _FORMAT = "mechdyn sweep 1"
 
 
 class SweepError(MechdynError, ValueError):
-    """A sweep that cannot run as asked (a grid above its size limit, no workers)."""
+    """A sweep that cannot run as asked (a grid above its size limit, no workers).
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> model = md.load_model("shoe_brake")
+    >>> try:
+    ...     md.sweep(model.mechanism, model.scenes["braking"], model.params,
+    ...              {"P": range(1, 11)}, max_points=5, progress=False)
+    ... except md.SweepError as error:
+    ...     print(type(error).__name__)
+    SweepError
+    """
 
 
 class SweepFileError(SweepError):
-    """An ``out`` file that is in use, or holds another sweep's rows."""
+    """An ``out`` file that is in use, or holds another sweep's rows.
+
+    Examples
+    --------
+    A file that was not written by a sweep is never overwritten:
+
+    >>> import mechdyn as md
+    >>> model = md.load_model("shoe_brake")
+    >>> import os, tempfile
+    >>> out = os.path.join(tempfile.mkdtemp(), "brake.csv")
+    >>> with open(out, "w") as file:
+    ...     _ = file.write("P,t_end\\n20,50\\n")
+    >>> try:
+    ...     md.sweep(model.mechanism, model.scenes["braking"], model.params, {"P": [20]},
+    ...              out=out, progress=False)
+    ... except md.SweepFileError as error:
+    ...     print(type(error).__name__)
+    SweepFileError
+    """
 
 
 class SweepFile:

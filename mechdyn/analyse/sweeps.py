@@ -166,6 +166,17 @@ class Sweep:
     swept names; ``path`` the CSV file (or None); ``units`` the SI unit of each column
     (``""`` where it has none or it is not known), ``label(column)`` ``"P [N]"``.
     ``print(sweep)`` prints it as a table (``table()``), Jupyter renders it as one.
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> model = md.load_model("shoe_brake")
+    >>> table = md.sweep(model.mechanism, model.scenes["braking"], model.params,
+    ...                  {"P": [20, 50]}, progress=False)
+    >>> len(table), table.parameters, table.failed
+    (2, ['P'], [])
+    >>> table["t_end"].round(9), table.label("t_end")       # I omega_0 / (2 f P R)
+    (array([50., 20.]), 't_end [s]')
     """
 
     def __init__(self, parameters, columns, rows, default_y, path=None, units=None):

@@ -59,7 +59,24 @@ def compile_source(source: str, extra=None) -> dict:
 
 
 class SingularMassError(SimulationError):
-    """The mass matrix (reduced inertia) is not positive definite at a state."""
+    """The mass matrix (reduced inertia) is not positive definite at a state.
+
+    Examples
+    --------
+    A Scotch yoke without crank inertia, ``I_red = m l^2 sin(phi)^2``, started at the dead
+    centre:
+
+    >>> import sympy as sp, mechdyn as md
+    >>> phi = md.coordinate("phi")
+    >>> yoke = md.Mechanism("yoke", [phi])
+    >>> _ = yoke.link("yoke", m=2, x=0.1 * sp.cos(phi))
+    >>> start = md.Scene("start", initial={phi: 0, md.speed(phi): 1}, t_end=1, backend="scipy")
+    >>> try:
+    ...     yoke.simulate(start)
+    ... except md.SingularMassError as error:
+    ...     print(type(error).__name__)
+    SingularMassError
+    """
 
     def __init__(self, coordinate, t_value, state):
         self.coordinate, self.time, self.state = coordinate, t_value, list(state)

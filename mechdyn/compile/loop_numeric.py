@@ -29,7 +29,28 @@ class LoopSingularError(SimulationError):
     """The loop constraints lost rank (a change point or a locked toggle): the motion of
     the linkage is not determined there. ``loop``: the constraint that became dependent
     on the others; ``time``, ``state`` where the run stopped; after the run,
-    ``kept_until``: the time ``partial`` ends (its last well-conditioned step)."""
+    ``kept_until``: the time ``partial`` ends (its last well-conditioned step).
+
+    Examples
+    --------
+    A parallelogram four-bar (crank 1, coupler 3, rocker 1, ground 3) turning at 1 rad/s
+    from ``phi = 1`` reaches its change point, all links in line, at ``phi = pi``:
+
+    >>> import mechdyn as md
+    >>> phi, th2, th3 = md.coordinates("phi theta_2 theta_3")
+    >>> four = md.Mechanism("parallelogram", [phi, th2, th3])
+    >>> _ = four.link("crank", J=1, angle=phi)
+    >>> _ = four.link("coupler", J=1, angle=th2)
+    >>> _ = four.link("rocker", J=1, angle=th3)
+    >>> _ = four.loop("ABCD", (1, phi), (3, th2), (-1, th3), (-3, 0))
+    >>> turning = md.Scene("turning", initial={phi: 1, th2: 0, th3: 1, md.speed(phi): 1},
+    ...                    t_end=5, backend="scipy")
+    >>> try:
+    ...     four.simulate(turning)
+    ... except md.LoopSingularError as error:
+    ...     print(error.loop, round(error.time, 5), error.partial.t_end < error.time)
+    ABCD 2.14159 True
+    """
 
     def __init__(self, loop, t_value, state, detail=""):
         self.loop, self.time, self.state = loop, t_value, list(state)

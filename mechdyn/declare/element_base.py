@@ -116,7 +116,15 @@ class Work:
     ``dissipation`` (Rayleigh), ``forces`` (pairs ``(value, along)``, each the
     generalized force ``value * d(along)/dq``: a force or moment ``value`` acting along
     a displacement or angle), ``sliding`` (a :class:`Sliding`) and ``contacts``
-    (:class:`Limit` s)."""
+    (:class:`Limit` s).
+
+    Examples
+    --------
+    >>> import sympy as sp, mechdyn as md
+    >>> k, q = sp.symbols("k q")
+    >>> md.Work(potential=k * q**2 / 2, forces=((-k * q, q),))
+    Work(potential=k*q**2/2, dissipation=0, forces=((-k*q, q),), sliding=None, contacts=())
+    """
     potential: object = sp.S.Zero
     dissipation: object = sp.S.Zero
     forces: tuple = ()
@@ -128,7 +136,37 @@ class Work:
 class Element:
     """Base of all elements: a name and tags, and the behaviour every stage asks of
     an element (see the module); the defaults are those of an element that does
-    nothing."""
+    nothing.
+
+    Examples
+    --------
+    A new element is a frozen dataclass deriving from ``Element`` whose ``work`` returns
+    a :class:`Work` (the README's "Adding an element" has one with units):
+
+    >>> from dataclasses import dataclass
+    >>> import mechdyn as md
+    >>> @dataclass(frozen=True)
+    ... class Drag(md.Element):            # a moment -b * speed along `along`
+    ...     b: object = 0
+    ...     along: object = None
+    ...     DEPENDS = {"b": ""}
+    ...     MOVING = ("along",)
+    ...     def __post_init__(self):
+    ...         super().__post_init__()
+    ...         self.convert("b")
+    ...         self.convert("along")
+    ...     def expressions(self):
+    ...         return {"b": self.b, "along": self.along}
+    ...     def work(self, motion):
+    ...         along = motion.position(self.along, self.name)
+    ...         return md.Work(forces=((-motion.plain(self.b) * motion.rate(along), along),))
+    >>> phi = md.coordinate("phi")
+    >>> fan = md.Mechanism("fan", [phi])
+    >>> _ = fan.link("rotor", J=2, angle=phi)
+    >>> _ = fan.add(Drag("air", b=3, along=phi))
+    >>> fan.reduced_moment()
+    -3*phidot
+    """
     name: str
     tags: tuple = field(default=(), kw_only=True)
 

@@ -18,6 +18,8 @@ from dataclasses import dataclass, field
 import sympy as sp
 
 from mechdyn.declare.element_base import FRAME, Element, Sliding, Work, as_expression
+from mechdyn.declare.constraints import Constraint
+from mechdyn.declare.joints import Joint
 from mechdyn.errors import DeclarationError
 from mechdyn.symbols import t
 
@@ -30,7 +32,16 @@ class Link(Element):
     about the centre of mass, rotation ``angle``. All positions are expressions of the
     coordinates (and possibly of ``md.t`` for an imposed motion). ``points``: pairs
     ``(x, y)`` an animation draws as the link's outline (joints, ends); they do not
-    enter the dynamics."""
+    enter the dynamics.
+
+    Examples
+    --------
+    >>> import sympy as sp, mechdyn as md
+    >>> phi = md.coordinate("phi")
+    >>> l = sp.Symbol("l", positive=True)
+    >>> md.Link("rod", m=2, x=l * sp.cos(phi) / 2, y=l * sp.sin(phi) / 2, angle=phi)
+    Link(name='rod', tags=(), m=2, J=0, x=l*cos(phi(t))/2, y=l*sin(phi(t))/2, angle=phi(t))
+    """
     m: object = 0
     J: object = 0
     x: object = 0
@@ -76,6 +87,18 @@ class Load(Element):
     (value and motion opposed) the drive must supply ``value/eta``; when it feeds power
     back only ``value*eta`` arrives. ``on`` names the link(s) it acts on, for
     kinetostatics (joint reactions); without it the link is found from ``along``.
+
+    Examples
+    --------
+    >>> import sympy as sp, mechdyn as md
+    >>> phi = md.coordinate("phi")
+    >>> yoke = md.Mechanism("yoke", [phi])
+    >>> _ = yoke.link("crank", J=1, angle=phi)
+    >>> _ = yoke.load("resistance", 100, along=sp.cos(phi))   # 100 N along x = cos(phi) m
+    >>> yoke.reduced_moment()
+    -100*sin(phi)
+    >>> md.Load("drive", 5, along=phi, efficiency=0.9).efficiency
+    0.900000000000000
     """
     value: object = 0
     along: object = None
@@ -162,7 +185,16 @@ class _OnStretch(Element):
 class Spring(_OnStretch):
     """A linear spring of stiffness ``k`` on the ``stretch`` (an expression that is zero
     when the spring is relaxed): potential ``k stretch^2 / 2``, force ``-k stretch``.
-    A stiffness that varies (a gear mesh) acts as the force ``-k(q, t) stretch``."""
+    A stiffness that varies (a gear mesh) acts as the force ``-k(q, t) stretch``.
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> phi_1, phi_2 = md.coordinates("phi_1 phi_2")
+    >>> shaft = md.Spring("shaft", 2000, stretch=phi_2 - phi_1)
+    >>> shaft.k, shaft.stretch
+    (2000, -phi_1(t) + phi_2(t))
+    """
     k: object = 0
     stretch: object = 0
 
@@ -183,7 +215,18 @@ class Spring(_OnStretch):
 @dataclass(frozen=True)
 class Damper(_OnStretch):
     """A linear viscous damper ``c`` on the rate of ``stretch``: Rayleigh dissipation
-    ``c stretch'^2 / 2``, force ``-c stretch'``."""
+    ``c stretch'^2 / 2``, force ``-c stretch'``.
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> x = md.coordinate("x")
+    >>> shock = md.Mechanism("shock absorber", [x], units={x: "m"})
+    >>> _ = shock.link("mass", m=1, x=x)
+    >>> _ = shock.damper("damper", 40, stretch=x)
+    >>> shock.equations().forcing
+    Matrix([[-40*xdot]])
+    """
     c: object = 0
     stretch: object = 0
 
@@ -214,7 +257,20 @@ G = sp.Symbol("g", positive=True)
 class Gravity(Element):
     """Uniform gravity ``g`` along -y: potential ``m g y`` of every link. Without a
     ``g`` it is standard gravity, 9.81 m/s^2: the number in the equations, the symbol
-    ``g`` in the printed derivation (:meth:`printed`)."""
+    ``g`` in the printed derivation (:meth:`printed`).
+
+    Examples
+    --------
+    >>> import sympy as sp, mechdyn as md
+    >>> theta = md.coordinate("theta")
+    >>> m, l, g = sp.symbols("m l g", positive=True)
+    >>> pendulum = md.Mechanism("pendulum", [theta])
+    >>> _ = pendulum.link("bob", m=m, x=l * sp.sin(theta), y=-l * sp.cos(theta))
+    >>> pendulum.gravity(g)
+    Gravity(name='gravity', tags=(), g=g)
+    >>> pendulum.reduced_moment()
+    -g*l*m*sin(theta)
+    """
     g: object = None
     standard: bool = field(default=False, init=False, repr=False, compare=False)
 
@@ -252,7 +308,22 @@ class Friction(Element):
     """Coulomb friction (a brake) of magnitude ``moment`` along ``along``: opposes
     sliding with ``moment`` (which may depend on the sliding speed: Stribeck, tables),
     and holds at rest while the other loads stay within ``peak * moment`` (static
-    friction, MSL's ``tau0_max = peak * tau0``; ``peak >= 1``)."""
+    friction, MSL's ``tau0_max = peak * tau0``; ``peak >= 1``).
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> phi = md.coordinate("phi")
+    >>> brake = md.Mechanism("brake", [phi])
+    >>> _ = brake.link("disc", J=0.4, angle=phi)
+    >>> brake.friction("shoe", 0.8, along=phi, peak=1.2).peak
+    1.20000000000000
+    >>> try:
+    ...     md.Friction("shoe", 0.8, along=phi, peak=0.5)
+    ... except md.DeclarationError as error:
+    ...     print(error)
+    friction 'shoe': peak = 0.5 must be at least 1 (static friction is never below sliding friction)
+    """
     moment: object = 0
     along: object = None
     peak: object = 1
@@ -293,103 +364,6 @@ class Friction(Element):
         out = {"moment": self.moment, "along": self.along}
         if self.peak != 1:
             out["peak"] = self.peak
-        return out
-
-
-@dataclass(frozen=True)
-class Constraint(Element):
-    """Holonomic constraints ``g(q, t) = 0`` between the coordinates (a closed loop).
-
-    ``equations``: the scalar expressions that vanish; ``components``: their names
-    (``"x"``, ``"y"`` of a vector loop, empty for one constraint); ``terms``: a vector
-    loop's ``(length, angle)`` pairs, ``sum length e^{i angle} = 0`` (empty otherwise).
-    Like links, constraints are always part of the mechanism (never a scene's effect).
-    """
-    equations: tuple = ()
-    components: tuple = ()
-    terms: tuple = ()
-
-    def __post_init__(self):
-        super().__post_init__()
-        if self.terms:
-            pairs = []
-            for k, term in enumerate(self.terms):
-                if not (isinstance(term, (tuple, list)) and len(term) == 2):
-                    raise DeclarationError(
-                        f"loop {self.name!r}: term {k + 1} is {term!r}; give each term as "
-                        "(length, angle), meaning length * e^(i angle)")
-                pairs.append((as_expression(term[0], f"loop {self.name!r}: length {k + 1}"),
-                              as_expression(term[1], f"loop {self.name!r}: angle {k + 1}")))
-            object.__setattr__(self, "terms", tuple(pairs))
-            object.__setattr__(self, "equations", (
-                sp.Add(*[l * sp.cos(a) for l, a in pairs]),
-                sp.Add(*[l * sp.sin(a) for l, a in pairs])))
-            object.__setattr__(self, "components", ("x", "y"))
-        else:
-            equations = self.equations
-            if not isinstance(equations, (tuple, list)):
-                equations = (equations,)
-            object.__setattr__(self, "equations", tuple(
-                as_expression(g, f"constraint {self.name!r}") for g in equations))
-        if not self.equations:
-            raise DeclarationError(f"constraint {self.name!r}: no equation given")
-
-    @property
-    def labels(self) -> tuple:
-        """The names of the scalar constraints: ``NAME.x``, ``NAME.y`` or ``NAME``."""
-        if self.components:
-            return tuple(f"{self.name}.{c}" for c in self.components)
-        if len(self.equations) == 1:
-            return (self.name,)
-        return tuple(f"{self.name}[{k}]" for k in range(len(self.equations)))
-
-    def expressions(self):
-        return dict(zip(self.labels, self.equations))
-
-
-@dataclass(frozen=True)
-class Joint(Element):
-    """A joint between two links (``"frame"`` for the fixed frame), for kinetostatics.
-
-    ``kind``: ``"revolute"`` (a pin at the point ``at``: force, no moment),
-    ``"prismatic"`` (a slide along the angle ``direction``: force normal to it and a
-    moment; ``at`` is the point of the slider the normal force is referred to) or
-    ``"weld"`` (rigidly joined, e.g. a flywheel keyed on the crank: force and moment).
-    The reaction of a joint is the force (and moment) the first link exerts on the second.
-    """
-    links: tuple = ()
-    at: tuple = ()
-    kind: str = "revolute"
-    direction: object = None
-
-    def __post_init__(self):
-        super().__post_init__()
-        what = f"joint {self.name!r}"
-        links = self.links
-        if isinstance(links, str) or len(links) != 2 or not all(isinstance(n, str)
-                                                                  for n in links):
-            raise DeclarationError(f"{what}: links must be two link names (or 'frame'), "
-                                   f"got {links!r}")
-        if links[0] == links[1]:
-            raise DeclarationError(f"{what}: joins {links[0]!r} to itself")
-        object.__setattr__(self, "links", tuple(links))
-        if self.kind not in ("revolute", "prismatic", "weld"):
-            raise DeclarationError(f"{what}: kind must be 'revolute', 'prismatic' or "
-                                   f"'weld', got {self.kind!r}")
-        if not (isinstance(self.at, (tuple, list)) and len(self.at) == 2):
-            raise DeclarationError(f"{what}: at must be the point (x, y), got {self.at!r}")
-        object.__setattr__(self, "at", tuple(as_expression(v, f"{what}: at")
-                                             for v in self.at))
-        if (self.kind == "prismatic") != (self.direction is not None):
-            raise DeclarationError(f"{what}: a prismatic joint needs direction= (the angle "
-                                   "of its slide), other joints take none")
-        if self.direction is not None:
-            self.convert("direction")
-
-    def expressions(self):
-        out = {"x": self.at[0], "y": self.at[1]}
-        if self.direction is not None:
-            out["direction"] = self.direction
         return out
 
 

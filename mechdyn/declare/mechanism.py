@@ -51,6 +51,24 @@ class Mechanism(Couplings):
         coordinates (a crank angle), whose initial values a scene gives; the others are
         dependent, assembled from the loops. Default: the first ``n - m`` coordinates
         (``m`` scalar constraints).
+
+    Raises
+    ------
+    DeclarationError
+        No coordinates, a coordinate that is not one, or one declared twice.
+
+    Examples
+    --------
+    >>> import sympy as sp, mechdyn as md
+    >>> phi = md.coordinate("phi")
+    >>> J1, m3, l = sp.symbols("J_1 m_3 l", positive=True)
+    >>> yoke = md.Mechanism("Scotch yoke", [phi], units={J1: "kg*m^2", m3: "kg", l: "m"})
+    >>> _ = yoke.link("crank", J=J1, angle=phi)
+    >>> _ = yoke.link("yoke", m=m3, x=l * sp.cos(phi))
+    >>> yoke.reduced_inertia()
+    J_1 + l**2*m_3*sin(phi)**2
+    >>> list(yoke.elements)
+    ['crank', 'yoke']
     """
 
     def __init__(self, name: str, coordinates, units=None, independent=None):
@@ -218,9 +236,11 @@ class Mechanism(Couplings):
 
     @property
     def independent(self) -> tuple:
-        """The independent coordinates: all of them without loops; with loops the ones
-        given as ``independent=`` or else the first ``n - m``. Checked: ``m`` scalar
-        constraints must leave at least one."""
+        """The independent coordinates.
+
+        All of them without loops; with loops the ones given as ``independent=``, or
+        else the first ``n - m``. Checked: ``m`` scalar constraints must leave at
+        least one."""
         m = sum(len(c.equations) for c in self.constraints.values())
         n = len(self.coordinates)
         if m >= n:

@@ -38,12 +38,36 @@ __all__ = ["Model", "load_model", "bundled_folder", "locate"]
 
 
 class ModelFileError(MechdynError, ValueError):
-    """A model file that cannot be used (missing, or without a mechanism)."""
+    """A model file that cannot be used (missing, or without a mechanism).
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> try:
+    ...     md.load_model("models/shoe_brake.py").scene("breaking")
+    ... except md.ModelFileError as error:
+    ...     print(error)
+    models/shoe_brake.py: no scene 'breaking' (did you mean braking?); scenes: braking
+    """
 
 
 @dataclass
 class Model:
-    """What a model file defines."""
+    """What a model file defines.
+
+    ``path``, ``mechanism``, ``params`` (default values), ``scenes`` (name -> Scene),
+    ``doc`` (the file's docstring), ``points`` (name -> ``(x, y)``: coupler points);
+    ``scene(name)`` and ``param_symbol(name)`` look one up by name.
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> model = md.load_model("shoe_brake")
+    >>> model.mechanism.name, list(model.scenes), model.doc.splitlines()[0]
+    ('Shoe brake', ['braking'], 'Shoe brake (worked example 1): a disc braked by a lever-pressed shoe.')
+    >>> model.param_symbol("P"), model.params[model.param_symbol("P")]
+    (P, 20)
+    """
     path: Path
     mechanism: Mechanism
     params: dict = field(default_factory=dict)
@@ -78,7 +102,21 @@ class Model:
 
 def load_model(path) -> Model:
     """Run a model file and collect its ``mechanism``, ``params`` and ``scenes``;
-    ``path`` a file or the name of a bundled model (see :func:`locate`)."""
+    ``path`` a file or the name of a bundled model (see :func:`locate`).
+
+    Raises
+    ------
+    ModelFileError
+        A file that is missing or defines no ``mechanism``, or bad ``params`` or
+        ``scenes``.
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> model = md.load_model("models/shoe_brake.py")     # or the bundled name "shoe_brake"
+    >>> model.scenes["braking"].until
+    (stopped(phi),)
+    """
     path = locate(path)
     namespace = _run(path)
     mechanism = namespace.get("mechanism")

@@ -4,6 +4,8 @@ Each function returns a :class:`Characteristic`. Give it to ``load`` as the valu
 load calls it with the speed of its ``along``), or call it with a speed expression to
 get the moment as an expression.
 
+Examples
+--------
 >>> import sympy as sp, mechdyn as md
 >>> phi = md.coordinate("phi")
 >>> motor = md.motors.dc_shunt(M_0=100, omega_0=150)

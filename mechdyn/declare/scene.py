@@ -46,7 +46,19 @@ class StopCondition:
 
 
 def stopped(q) -> StopCondition:
-    """Stop when the coordinate ``q`` comes to rest (its speed reaches zero)."""
+    """Stop when the coordinate ``q`` comes to rest (its speed reaches zero).
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> phi = md.coordinate("phi")
+    >>> md.stopped(phi)
+    stopped(phi)
+    >>> scene = md.Scene("braking", initial={phi: 0, md.speed(phi): 100},
+    ...                  until=md.stopped(phi))
+    >>> scene.until
+    (stopped(phi),)
+    """
     if not is_coordinate(q):
         raise SceneError(f"stopped(): {q!r} is not a coordinate")
     return StopCondition(sp.Derivative(q, t), sp.S.Zero, 0, f"stopped({q.func.__name__})")
@@ -59,6 +71,8 @@ def reaches(expression, value, direction=0, label=None) -> StopCondition:
     ``value`` may be a text with a unit, ``"20 mm"``, ``"1425 rpm"``: it is converted
     to SI here and its dimension checked against the expression's when the scene runs.
 
+    Examples
+    --------
     >>> import mechdyn as md
     >>> h = md.coordinate("h")
     >>> condition = md.reaches(h, "20 mm")
@@ -135,6 +149,27 @@ class Scene:
         The run's budget: accepted steps (default one million) and seconds of wall time
         (default none); a run that exceeds it stops with a SimulationError carrying
         the result so far.
+
+    Raises
+    ------
+    SceneError
+        A field that is not valid (a time or tolerance that is not a finite number, an
+        unknown method); effects, initial values and outputs are checked against the
+        mechanism when the scene runs.
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> phi = md.coordinate("phi")
+    >>> startup = md.Scene("startup", initial={phi: 0, md.speed(phi): "150 rpm"},
+    ...                    t_end="2 min", outputs={"motor moment": "motor"})
+    >>> startup.t_end, round(startup.initial[md.speed(phi)], 6)
+    (120.0, 15.707963)
+    >>> try:
+    ...     md.Scene("startup", initial={phi: 0, md.speed(phi): 0}, t_end=-1)
+    ... except md.SceneError as error:
+    ...     print(type(error).__name__)
+    SceneError
     """
     name: str
     effects: tuple | None = None

@@ -35,7 +35,15 @@ PIECEWISE_POINTS = 16        # longer tables of numbers are one lookup node
 
 class Table:
     """A piecewise-linear function through the points ``(xs[i], ys[i])`` (``xs``
-    strictly increasing), extrapolated linearly beyond the ends."""
+    strictly increasing), extrapolated linearly beyond the ends.
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> mu = md.Table([0, 1, 2], [0.4, 0.3, 0.25], name="mu")
+    >>> mu(0.5), mu(3)                     # between points; beyond the last: extrapolated
+    (0.350000000000000, 0.200000000000000)
+    """
 
     def __init__(self, xs, ys, name="table"):
         xs, ys = list(xs), list(ys)
@@ -79,7 +87,18 @@ class Table:
 
 def table(xs, ys, name="table") -> Table:
     """A piecewise-linear :class:`Table` through ``(xs[i], ys[i])``, extrapolated
-    through the first two and the last two points; call it with an expression."""
+    through the first two and the last two points; call it with an expression.
+
+    Examples
+    --------
+    A motor's moment against its speed, as a load's value:
+
+    >>> import mechdyn as md
+    >>> phi = md.coordinate("phi")
+    >>> curve = md.table([0, 100, 150], [80, 60, 0])
+    >>> curve(md.speed(phi)).subs(md.speed(phi), 125)
+    30
+    """
     return Table(xs, ys, name)
 
 

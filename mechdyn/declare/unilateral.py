@@ -29,7 +29,17 @@ class OneWayClutch(Friction):
     only increase. Sliding forward it brakes with ``moment`` (0: a freewheel overruns
     freely); at rest it locks, holds any moment against backward motion, and releases
     forward once the moment pushing forward exceeds ``peak * moment`` (or ``release``,
-    whichever is larger: MSL's small threshold of a disengaged clutch)."""
+    whichever is larger: MSL's small threshold of a disengaged clutch).
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> phi = md.coordinate("phi")
+    >>> hub = md.Mechanism("hub", [phi])
+    >>> _ = hub.link("wheel", J=0.1, angle=phi)
+    >>> hub.freewheel("pawl", along=phi)      # moment 0: a freewheel
+    OneWayClutch(name='pawl', tags=(), moment=0, along=phi(t), peak=1, release=0)
+    """
     release: object = 0
 
     DEPENDS = {**Friction.DEPENDS, "release": ""}
@@ -64,7 +74,18 @@ class Stop(Element):
     """A hard stop on ``along``: ``lower <= along <= upper`` (either limit may be None).
     Reaching a limit is an impact: the speed of ``along`` jumps to ``-restitution``
     times its value (the impulse of least kinetic energy change); resting on a limit
-    the stop holds while it pushes, and lets go when the loads pull away."""
+    the stop holds while it pushes, and lets go when the loads pull away.
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> x = md.coordinate("x")
+    >>> stamp = md.Mechanism("stamp", [x], units={x: "m"})
+    >>> _ = stamp.link("ram", m=2, x=x)
+    >>> stop = stamp.stop("anvil", along=x, lower=0, restitution=0.5)
+    >>> stop.lower, stop.upper, stop.restitution
+    (0, None, 0.500000000000000)
+    """
     along: object = None
     lower: object = None
     upper: object = None
@@ -131,7 +152,22 @@ class LossyGear(Constraint):
     bearing_backward`` while the output drives (the larger of the two); mirrored
     backward. ``eta_backward <= 0`` is a self-locking gear (a worm): the output can
     never drive it. At rest it holds while the loss moment needed stays within that
-    law. The efficiencies and bearing moments may depend on the speeds."""
+    law. The efficiencies and bearing moments may depend on the speeds.
+
+    Examples
+    --------
+    A self-locking worm gear (``eta_backward <= 0``):
+
+    >>> import mechdyn as md
+    >>> worm, wheel = md.coordinates("worm wheel")
+    >>> hoist = md.Mechanism("worm hoist", [worm, wheel])
+    >>> _ = hoist.link("worm", J=1e-3, angle=worm)
+    >>> _ = hoist.link("wheel", J=0.5, angle=wheel)
+    >>> gear = hoist.lossy_gear("gear", input=worm, output=wheel, ratio=40,
+    ...                         eta_forward=0.6, eta_backward=-0.2)
+    >>> gear.ratio, gear.eta_backward
+    (40, -0.200000000000000)
+    """
     input: object = None
     output: object = None
     ratio: object = 1

@@ -42,7 +42,20 @@ _ROLE_WORDS = {"t": "the time", "phi": "the position", "omega": "the speed"}
 
 class AnalyticError(MechdynError, ValueError):
     """A question the closed-form solver cannot answer (several degrees of freedom, a
-    case that needs numerical integration, an integral sympy cannot do)."""
+    case that needs numerical integration, an integral sympy cannot do).
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> x, y = md.coordinates("x y")
+    >>> table = md.Mechanism("table", [x, y])
+    >>> _ = table.link("slide", m=1, x=x, y=y)
+    >>> try:
+    ...     md.classify(table)
+    ... except md.AnalyticError as error:
+    ...     print(type(error).__name__)
+    AnalyticError
+    """
 
 
 # ------------------------------------------------------------------- the problem
@@ -143,6 +156,17 @@ class Classification:
     ``case`` 1-5; ``inertia_varies`` (``I_red`` a function of the position);
     ``moment_depends_on``: the roles among ``"t"``, ``"phi"``, ``"omega"`` that
     ``M_red`` depends on; ``closed_form``: cases 1-3; ``description``: in words.
+
+    Examples
+    --------
+    >>> import sympy as sp, mechdyn as md
+    >>> phi = md.coordinate("phi")
+    >>> fan = md.Mechanism("fan", [phi])
+    >>> _ = fan.link("rotor", J=2, angle=phi)
+    >>> _ = fan.load("air", -sp.Symbol("k") * md.speed(phi)**2, along=phi)
+    >>> kind = md.classify(fan)
+    >>> kind.case, kind.inertia_varies, kind.moment_depends_on, kind.closed_form
+    (2, False, ('omega',), True)
     """
     case: int
     inertia_varies: bool

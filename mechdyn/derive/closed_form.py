@@ -23,7 +23,21 @@ __all__ = ["StopPoint", "Solution", "closed_form"]
 @dataclass(frozen=True)
 class StopPoint:
     """Where a stop condition is met: time ``t``, position ``phi``, speed ``omega``
-    (exact sympy numbers where the closed form gives them, floats from quadrature)."""
+    (exact sympy numbers where the closed form gives them, floats from quadrature).
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> phi = md.coordinate("phi")
+    >>> brake = md.Mechanism("brake", [phi])
+    >>> _ = brake.link("disc", J=0.4, angle=phi)
+    >>> _ = brake.friction("shoe", 0.8, along=phi)
+    >>> braking = md.Scene("braking", initial={phi: 0, md.speed(phi): 100},
+    ...                    until=md.stopped(phi))
+    >>> sol = md.closed_form(brake, braking)
+    >>> sol.stop
+    StopPoint(t=50, phi=2500, omega=0, label='stopped(phi)')
+    """
     t: object
     phi: object
     omega: object
@@ -42,6 +56,21 @@ class Solution:
     ``stop`` is the first stop condition met (``None`` if none is met
     before the scene's time limit or it has no closed form); ``notes`` say what was done.
     ``sol[name]`` is the expression, ``sol.function(name)`` a vectorized evaluator.
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> phi = md.coordinate("phi")
+    >>> brake = md.Mechanism("brake", [phi])
+    >>> _ = brake.link("disc", J=0.4, angle=phi)
+    >>> _ = brake.friction("shoe", 0.8, along=phi)
+    >>> braking = md.Scene("braking", initial={phi: 0, md.speed(phi): 100},
+    ...                    until=md.stopped(phi))
+    >>> sol = md.closed_form(brake, braking)
+    >>> sol["omega(t)"], sol["phi(t)"]
+    (100 - 2*t, -t**2 + 100*t)
+    >>> sol.function("phi(t)")([10.0, 50.0])
+    array([ 900., 2500.])
     """
     classification: Classification
     q: sp.Symbol

@@ -23,7 +23,15 @@ __all__ = ["Motion", "uniform_rotation", "uniform_acceleration", "DrivingMoment"
 class Motion:
     """A prescribed motion: the law ``phi(t)`` (an expression of ``md.t`` from t = 0),
     the sense of motion ``direction`` (+1 or -1, fixes the sign of Coulomb friction) and
-    the time ``window`` its mean, peak and RMS are taken over (None: no statistics)."""
+    the time ``window`` its mean, peak and RMS are taken over (None: no statistics).
+
+    Examples
+    --------
+    >>> import sympy as sp, mechdyn as md
+    >>> swing = md.Motion(sp.sin(md.t), window=2 * sp.pi)
+    >>> swing.law, swing.direction
+    (sin(t), 1)
+    """
     law: sp.Expr
     direction: int = 1
     window: object = None
@@ -33,6 +41,8 @@ def uniform_rotation(omega, phi0=0, cycle=2 * sp.pi) -> Motion:
     """Rotation at the constant speed ``omega``; statistics over one ``cycle`` of the
     angle (default a revolution, the time ``cycle / omega``).
 
+    Examples
+    --------
     >>> uniform_rotation(10).law
     10*t
     """
@@ -45,6 +55,8 @@ def uniform_acceleration(eps, omega0=0, phi0=0, duration=None) -> Motion:
     """Constant acceleration ``eps`` from the speed ``omega0``; statistics over
     ``duration`` when given.
 
+    Examples
+    --------
     >>> uniform_acceleration(4, omega0=1).law
     2*t**2 + t
     """
@@ -63,6 +75,19 @@ class DrivingMoment:
     position (and the speed where it varies; constant speed and acceleration substituted);
     ``of_time``: along the motion, a function of ``t``; ``mean``, ``peak`` (largest
     magnitude) and ``rms`` over the motion's window (numbers; they need every parameter).
+
+    Examples
+    --------
+    >>> import sympy as sp, mechdyn as md
+    >>> phi = md.coordinate("phi")
+    >>> yoke = md.Mechanism("yoke", [phi])
+    >>> _ = yoke.link("crank", J=1, angle=phi)
+    >>> _ = yoke.link("yoke", m=2, x=sp.cos(phi))
+    >>> needed = md.driving_moment(yoke, md.uniform_rotation(3))
+    >>> needed.expression                  # 1/2 I_red' omega^2, I_red = 1 + 2 sin^2
+    9*sin(2*phi)
+    >>> round(needed.mean, 12), round(float(needed.peak), 12)    # over a revolution
+    (0.0, 9.0)
     """
     expression: sp.Expr
     of_time: sp.Expr

@@ -46,7 +46,23 @@ __all__ = ["StateSpace", "linearize"]
 @dataclass(frozen=True)
 class StateSpace:
     """``x' = A x + B w``, ``y = C x + D w`` (numpy arrays) with the names of the
-    ``states``, ``inputs`` and ``outputs``, the operating point ``x0``, ``w0``."""
+    ``states``, ``inputs`` and ``outputs``, the operating point ``x0``, ``w0``.
+
+    Examples
+    --------
+    >>> import sympy as sp, mechdyn as md
+    >>> x = md.coordinate("x")
+    >>> F = sp.Symbol("F")
+    >>> oscillator = md.Mechanism("oscillator", [x], units={x: "m"})
+    >>> _ = oscillator.link("mass", m=2, x=x)
+    >>> _ = oscillator.spring("spring", 50, stretch=x)
+    >>> _ = oscillator.load("force", F, along=x)
+    >>> model = md.linearize(oscillator, params={F: 0}, inputs=[F], outputs=[x])
+    >>> model
+    <StateSpace: 2 states, 1 inputs, 1 outputs>
+    >>> model.states, model.inputs, model.outputs, model.poles
+    (('x', 'xdot'), ('F',), ('x',), array([0.+5.j, 0.-5.j]))
+    """
     A: np.ndarray
     B: np.ndarray
     C: np.ndarray
@@ -101,6 +117,25 @@ def linearize(mechanism, scene=None, at=None, params=None, inputs=(), outputs=()
         Parameter symbols (or names) that act as inputs.
     outputs : list
         Coordinates, speeds, element names or expressions; default all states.
+
+    Returns
+    -------
+    StateSpace
+
+    Examples
+    --------
+    >>> import sympy as sp, mechdyn as md
+    >>> x = md.coordinate("x")
+    >>> F = sp.Symbol("F")
+    >>> oscillator = md.Mechanism("oscillator", [x], units={x: "m"})
+    >>> _ = oscillator.link("mass", m=2, x=x)
+    >>> _ = oscillator.spring("spring", 50, stretch=x)
+    >>> _ = oscillator.load("force", F, along=x)
+    >>> model = md.linearize(oscillator, params={F: 0}, inputs=[F], outputs=[x])
+    >>> model.A, model.B
+    (array([[  0.,   1.],
+           [-25.,   0.]]), array([[0. ],
+           [0.5]]))
     """
     values = ParameterSet(params, mechanism=mechanism, scene=scene).by_symbol()
     eqs = mechanism.equations(scene)

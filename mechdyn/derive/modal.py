@@ -59,6 +59,22 @@ class Modes:
     mass, stiffness, damping : ndarray
         The matrices ``M``, ``K`` (Hessian of the potential energy) and ``C = -df/du``
         at the operating point.
+
+    Examples
+    --------
+    Two discs on a shaft: a rigid-body mode and ``omega^2 = k (1/J_1 + 1/J_2)``:
+
+    >>> import mechdyn as md
+    >>> phi_1, phi_2 = md.coordinates("phi_1 phi_2")
+    >>> shaft = md.Mechanism("two discs", [phi_1, phi_2])
+    >>> _ = shaft.link("motor", J=1, angle=phi_1)
+    >>> _ = shaft.link("load", J=4, angle=phi_2)
+    >>> _ = shaft.spring("shaft", 500, stretch=phi_2 - phi_1)
+    >>> modes = md.natural_frequencies(shaft)
+    >>> modes.omega.round(9), modes.rigid_body_modes
+    (array([ 0., 25.]), 1)
+    >>> modes.shapes[:, 1]
+    array([ 1.  , -0.25])
     """
     coordinates: tuple
     omega: np.ndarray

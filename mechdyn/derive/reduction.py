@@ -7,6 +7,8 @@ efficiency of the transmission between them. The functions take numbers (and ret
 floats) or sympy expressions (and return expressions), so they check a derivation
 symbolically as well as numerically.
 
+Examples
+--------
 >>> from mechdyn import reduction as red
 >>> round(red.inertia(6.0, 40) + red.drum_mass(2000, 0.2, 40), 6)  # drum, load: kg m^2
 0.05375
@@ -28,7 +30,17 @@ __all__ = ["ReductionError", "inertia", "drum_mass", "torsional_stiffness",
 
 
 class ReductionError(MechdynError, ValueError):
-    """An argument of a reduction formula that makes no physical sense."""
+    """An argument of a reduction formula that makes no physical sense.
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> try:
+    ...     md.reduction.inertia(4.0, 0)
+    ... except md.ReductionError as error:
+    ...     print(error)
+    i = 0.0 must be nonzero (a gear ratio of zero transmits no motion)
+    """
 
 
 def _check(value, name, kind):

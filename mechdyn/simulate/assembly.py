@@ -33,7 +33,28 @@ _SPEED_AGREEMENT = 1e-8   # given dependent speeds must agree with the loops thi
 class AssemblyError(SceneError):
     """The loops cannot be closed at the given independent coordinates (links that do
     not reach), or close only at a toggle position. ``independent``: the values of the
-    independent coordinates by name."""
+    independent coordinates by name.
+
+    Examples
+    --------
+    A triple rocker (ground 2, crank 3, coupler 3.5, rocker 5) does not close at
+    ``phi = 0`` (its crank reaches only 0.46 rad to ``2 pi - 0.46`` rad):
+
+    >>> import mechdyn as md
+    >>> phi, th2, th3 = md.coordinates("phi theta_2 theta_3")
+    >>> rocker = md.Mechanism("triple rocker", [phi, th2, th3])
+    >>> _ = rocker.link("crank", J=1, angle=phi)
+    >>> _ = rocker.link("coupler", J=1, angle=th2)
+    >>> _ = rocker.link("rocker", J=1, angle=th3)
+    >>> _ = rocker.loop("ABCD", (3, phi), (3.5, th2), (-5, th3), (-2, 0))
+    >>> start = md.Scene("start", initial={phi: 0, th2: 0.5, th3: 1, md.speed(phi): 1},
+    ...                  t_end=1, backend="scipy")
+    >>> try:
+    ...     rocker.simulate(start)
+    ... except md.AssemblyError as error:
+    ...     print(type(error).__name__, error.independent)
+    AssemblyError {'phi': 0.0}
+    """
 
     def __init__(self, message, independent=None):
         super().__init__(message)

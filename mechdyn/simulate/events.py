@@ -39,7 +39,19 @@ class Event:
     """Something that happened at ``time``: ``kind`` ("stick", "slip", "engage", "free",
     "impact", "contact", "lift", "end"), the element or condition ``name``, and a
     ``detail`` in words. An impact carries its impulse as ``value`` and, on the first
-    impact event of an instant, the kinetic energy the velocity jump took as ``energy``."""
+    impact event of an instant, the kinetic energy the velocity jump took as ``energy``.
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> model = md.load_model("shoe_brake")
+    >>> res = model.mechanism.simulate(model.scenes["braking"], model.params)
+    >>> res.events
+    [stick shoe at t = 50 s, end stopped(phi) at t = 50 s]
+    >>> stick = res.events[0]
+    >>> stick.kind, stick.name, round(stick.time, 9)
+    ('stick', 'shoe', 50.0)
+    """
     time: float
     kind: str
     name: str

@@ -35,6 +35,18 @@ class Result(SeriesResult):
     method with time, from, to and why; steps, nfev, njev, nlu, segments, wall_time);
     ``outputs`` (label -> array at the step points), ``outputs_at(times)``; ``energy()``;
     ``to_csv``, ``to_pandas``, ``plot``, ``summary``.
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> model = md.load_model("shoe_brake")
+    >>> res = model.mechanism.simulate(model.scenes["braking"], model.params)
+    >>> res.reason, round(res.t_end, 9), round(res.final("phi"), 6)
+    ('stopped(phi)', 50.0, 2500.0)
+    >>> res.at([10.0, 20.0], "phidot").round(9)            # dense output: 100 - 2 t
+    array([80., 60.])
+    >>> res.stats["method"], res.events[-1].kind
+    ('DOP853', 'end')
     """
 
     def __init__(self, compiled, trajectory, events, reason, stats, base_params, scene,

@@ -23,11 +23,38 @@ STATIC_SOURCES = ("fmi2_glue.c", "fmi2_header.h")
 
 
 class FmuError(MechdynError):
-    """A mechanism or scene that cannot be exported as an FMU (the message names why)."""
+    """A mechanism or scene that cannot be exported as an FMU (the message names why).
+
+    Examples
+    --------
+    >>> import mechdyn as md
+    >>> model = md.load_model("shoe_brake")
+    >>> try:
+    ...     model.mechanism.export_fmu(model.scenes["braking"], model.params, "brake.zip")
+    ... except md.FmuError as error:
+    ...     print(error)
+    brake.zip: an FMU's file name ends in .fmu
+    """
 
 
 class FmuCompilerError(FmuError):
-    """No C compiler to build the FMU's binary, or the build failed."""
+    """No C compiler to build the FMU's binary, or the build failed.
+
+    Examples
+    --------
+    Without a C compiler on the ``PATH`` (and no ``CC``), before anything is derived:
+
+    >>> import mechdyn as md
+    >>> model = md.load_model("shoe_brake")
+    >>> import os
+    >>> from unittest import mock
+    >>> with mock.patch.dict(os.environ, {"PATH": "", "CC": ""}):
+    ...     try:
+    ...         model.mechanism.export_fmu(model.scenes["braking"], model.params, "brake.fmu")
+    ...     except md.FmuCompilerError as error:
+    ...         print(type(error).__name__, isinstance(error, md.FmuError))
+    FmuCompilerError True
+    """
 
 
 def find_compiler() -> str:
