@@ -1,11 +1,15 @@
 """A coordinate's declared unit is the unit of its values: coordinates are computed in
 SI, so a unit of another scale (deg, mm) is refused by name instead of labelling radians
 as degrees; degrees are a display unit of the result."""
+from pathlib import Path
+
 import numpy as np
 import pytest
 import sympy as sp
 
 import mechdyn as md
+
+ROOT = Path(__file__).resolve().parents[1]
 
 phi, x = md.coordinate("phi"), md.coordinate("x")
 
@@ -31,3 +35,11 @@ def test_radians_are_shown_in_degrees_only_when_converted():
     assert res.units["phi"] == "rad"
     shown = res.summary(units={"phi": "deg"})
     assert f"phi: final {np.degrees(2.22144 / 2):.6g} deg" in shown
+
+
+def test_a_result_holds_each_coordinates_unit_rad_where_none_is_declared():
+    """The hoist's drum angle (no unit declared: rad) and its load's height (m), beside
+    the rope force's N, in ``res.units`` as the README says."""
+    model = md.load_model(ROOT / "models" / "hoist_drive.py")
+    res = model.mechanism.simulate(model.scenes["lift_start"], model.params)
+    assert res.units == {"phi": "rad", "h": "m", "rope": "N"}

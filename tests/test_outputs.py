@@ -40,7 +40,8 @@ def test_named_outputs_label_results_csv_and_plots(tmp_path):
     k = float(model.params[model.param_symbol("k")])
     assert np.allclose(res["shaft moment"], k * res["twist"], rtol=1e-12, atol=1e-12)
     assert np.allclose(res["twist"], res[phi_1] - res[phi_2], rtol=1e-12, atol=1e-15)
-    assert res.units == {"twist": "", "shaft moment": "N*m", "motor power": "W"}
+    assert res.units == {"phi_1": "rad", "phi_2": "rad", "twist": "",
+                         "shaft moment": "N*m", "motor power": "W"}
     header, _ = _rows(res.to_csv(tmp_path / "run.csv"))
     assert header[-3:] == ["twist", "shaft moment", "motor power"]
     figure = res.plot()

@@ -238,7 +238,7 @@ def test_unit_declarations_are_checked_where_given():
 def test_display_units_in_summary_csv_and_plot(tmp_path):
     model = md.load_model(ROOT / "models" / "motor_startup.py")
     result = model.mechanism.simulate(model.scenes["startup"], model.params)
-    assert result.units == {"motor": "N*m", "power:motor": "W"}
+    assert result.units == {"phi": "rad", "motor": "N*m", "power:motor": "W"}
     text = result.summary(units={"speed": "rpm", "power": "kW"})
     final_rpm = result.final(md.speed(model.mechanism.coordinates[0])) * 30 / math.pi
     assert f"speed final {final_rpm:.6g}" in text and " rpm" in text
