@@ -43,3 +43,11 @@ def test_a_result_holds_each_coordinates_unit_rad_where_none_is_declared():
     model = md.load_model(ROOT / "models" / "hoist_drive.py")
     res = model.mechanism.simulate(model.scenes["lift_start"], model.params)
     assert res.units == {"phi": "rad", "h": "m", "rope": "N"}
+
+
+def test_a_closed_loops_multipliers_are_forces_where_the_loop_equations_are_lengths():
+    """A loop of link lengths (m) closes with a force: energy per metre, N."""
+    model = md.load_model(ROOT / "models" / "fourbar_flywheel.py")
+    scene = md.Scene("short", initial=model.scenes["startup"].initial, t_end=0.01)
+    res = model.mechanism.simulate(scene, model.params)
+    assert res.units["ABCD.x"] == res.units["ABCD.y"] == "N"

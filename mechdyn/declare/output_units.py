@@ -14,6 +14,7 @@ mesh loss, power in W, an expression's own dimension.
 """
 import sympy as sp
 
+from mechdyn.declare.constraints import Constraint
 from mechdyn.declare.dimensions import (ENERGY, TIME, Misfit, MissingUnit, _plain, dimension_of,
                                         known_dimensions)
 
@@ -48,4 +49,9 @@ def output_units(mechanism, scene) -> dict:
             units[label] = dim.si if dim is not None and not dim.dimensionless else ""
         else:
             units[label] = ""
+    for element in mechanism.elements.values():     # a loop's multipliers: the force (or
+        if isinstance(element, Constraint):          # moment) that closes it, per equation
+            for label, equation in element.expressions().items():
+                along = dimension(equation)
+                units.setdefault(label, (ENERGY / along).si if along is not None else "")
     return units
