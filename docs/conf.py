@@ -14,6 +14,13 @@ sys.path.insert(0, str(ROOT))              # the checkout's mechdyn, not an inst
 
 import mechdyn  # noqa: E402
 
+# The compiled kernels compile once per cache folder: here, in the build's log, rather
+# than in the output of the first gallery example (without numba the gallery runs on scipy).
+try:
+    import mechdyn.kernels.loop  # noqa: E402,F401
+except ImportError:
+    pass
+
 project = "mechdyn"
 author = "the mechdyn developers"
 copyright = "2026, the mechdyn developers"
@@ -34,7 +41,6 @@ exclude_patterns = ["_build", "gallery/**/*.ipynb", "gallery/**/*.py",
 
 # MyST: headings get anchors down to level 3, so pages can link to a section.
 myst_heading_anchors = 3
-myst_enable_extensions = ["dollarmath"]
 
 # API reference: autosummary writes docs/api/ (generated, not committed); numpydoc
 # renders the docstrings.
