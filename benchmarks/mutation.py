@@ -463,13 +463,15 @@ class ReachMap:
             sum(durations), cap + max(durations, default=0.0))
 
 
-MAPPED = ("mechdyn", "tests", "models", "validation", "README.md", "pyproject.toml")
+MAPPED = ("mechdyn", "tests", "models", "validation", "README.md", "docs/guide",
+          "pyproject.toml")
 
 
 def digest() -> str:
     """A hash of what the map depends on (MAPPED: mechdyn, the tests and the files that
-    name tests, as models/ and README.md's code blocks do; not README.md's prose, docs/,
-    .ci/, benchmarks/ or the harness's own tests) and of the map's format (MAP_FORMAT)."""
+    name tests, as models/ and the code blocks of README.md and docs/guide/ do; not their
+    prose, the rest of docs/, .ci/, benchmarks/ or the harness's own tests) and of the
+    map's format (MAP_FORMAT)."""
     h = hashlib.blake2b(f"map format {MAP_FORMAT}".encode(), digest_size=8)
     for name in MAPPED:
         path = ROOT / name
@@ -477,7 +479,7 @@ def digest() -> str:
             rel = file.relative_to(ROOT).as_posix()
             if file.is_file() and "__pycache__" not in file.parts and rel != HARNESS_TESTS:
                 content = file.read_bytes()
-                if rel == "README.md":
+                if rel == "README.md" or rel.startswith("docs/guide/"):
                     content = b"".join(re.findall(rb"```.*?```", content, re.S))
                 h.update(rel.encode() + b"\0" + content)
     return h.hexdigest()

@@ -12,21 +12,21 @@ import sympy as sp
 
 import mechdyn as md
 
-README = Path(__file__).resolve().parents[1] / "README.md"
+DECLARE = Path(__file__).resolve().parents[1] / "docs" / "guide" / "declare.md"
 
 
-def readme_yoke():
-    """The README's first Scotch yoke example, run as written: its names."""
-    blocks = re.findall(r"```python\n(.*?)```", README.read_text(), re.S)
+def guide_yoke():
+    """The user guide's Scotch yoke (docs/guide/declare.md), run as written: its names."""
+    blocks = re.findall(r"```python\n(.*?)```", DECLARE.read_text(), re.S)
     block = next((block for block in blocks if "Scotch yoke" in block), "")
     assert "Scotch yoke" in block
     names = {}
-    exec(compile(block, "README.md", "exec"), names)
+    exec(compile(block, "docs/guide/declare.md", "exec"), names)
     return names
 
 
-def test_readme_scotch_yoke_equals_the_formula_written_with_plain_symbols():
-    names = readme_yoke()
+def test_the_guides_scotch_yoke_equals_the_formula_written_with_plain_symbols():
+    names = guide_yoke()
     yoke, J1, m3, l = names["yoke"], names["J1"], names["m3"], names["l"]
     formula = J1 + m3 * l ** 2 * sp.sin(sp.Symbol("phi")) ** 2
     # sympy alone keeps the two phi apart (the derived one is real): the natural
@@ -37,7 +37,7 @@ def test_readme_scotch_yoke_equals_the_formula_written_with_plain_symbols():
 
 
 def test_formula_in_the_declared_coordinate_and_in_symbols_without_assumptions():
-    names = readme_yoke()
+    names = guide_yoke()
     yoke, phi = names["yoke"], names["phi"]                  # phi = md.coordinate("phi")
     J1, m3, l, M1, F3 = sp.symbols("J_1 m_3 l M_1 F_3")      # no assumptions
     assert md.same(yoke.reduced_inertia(), J1 + m3 * l ** 2 * sp.sin(phi) ** 2)
@@ -45,7 +45,7 @@ def test_formula_in_the_declared_coordinate_and_in_symbols_without_assumptions()
 
 
 def test_a_wrong_formula_reports_what_is_off():
-    names = readme_yoke()
+    names = guide_yoke()
     yoke, l, F3, M1 = names["yoke"], names["l"], names["F3"], names["M1"]
     phi = sp.Symbol("phi")
     left = md.difference(yoke.reduced_moment(), M1 - F3 * l * sp.sin(phi) / 2)

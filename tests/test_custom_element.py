@@ -1,8 +1,8 @@
 """A new element is one class, declared outside the package through the public API:
 a torsional spring with preload, ``M = -(k (q - q0) + M0)``, potential
 ``k (q - q0)^2 / 2 + M0 q``. Every stage asks the element (its work, units, output);
-nothing in mechdyn is told about the new type. The class is the README's ("Adding an
-element"), word for word."""
+nothing in mechdyn is told about the new type. The class is the user guide's
+(docs/guide/architecture.md, "Adding an element"), word for word."""
 from dataclasses import dataclass
 
 import numpy as np

@@ -1,5 +1,5 @@
 """The python blocks of docs/kernels.md run as written (they moved there from the
-README, whose blocks tests/test_readme.py runs)."""
+README, whose blocks and the guide's tests/test_docs_examples.py runs)."""
 import re
 from pathlib import Path
 

@@ -1,7 +1,7 @@
 """A newcomer's first hour (issue 29, items 2-8): motor characteristics given to a load
 directly, many events grouped, the bundled models found by name from any folder, usage
 errors before work with suggestions, units in sweeps and summaries (the short reprs are
-checked against the README in tests/test_readme.py)."""
+checked against the docs in tests/test_docs_examples.py)."""
 import re
 try:
     import tomllib

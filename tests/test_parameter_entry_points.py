@@ -2,7 +2,7 @@
 ``ParameterSet``: the same bad value gives the same named error (``md.ParameterError``)
 with the same message, before anything is derived or compiled.
 
-The list below is the list of entry points (README, "Parameters"): each is fed an
+The list below is the list of entry points (docs/guide/simulate.md, "Parameters"): each is fed an
 unknown name, a value in a wrong unit and a value outside the symbol's declared domain;
 the call must fail with the ParameterSet's own words while the derivation and the code
 generation are booby-trapped (the check comes before seconds of sympy or numba). A
@@ -154,7 +154,7 @@ NEEDING = [e for e in ENTRY_POINTS if e not in ("closed_form", "classify", "driv
 @pytest.mark.parametrize("entry", NEEDING)
 def test_a_missing_value_is_named_alike_before_numba_compiles(entry, tmp_path, yoke_result,
                                                               monkeypatch):
-    """Closed forms keep a missing value as a symbol (README); every other entry point
+    """Closed forms keep a missing value as a symbol (docs/guide/simulate.md); every other entry point
     names it in the one wording, ``'mechanism': give values for NAME (needed by ...)``."""
     call, good, needed = _entry_points(tmp_path, yoke_result)[entry]
     nothing_compiled_by_numba(monkeypatch)

@@ -1,7 +1,7 @@
 """One ParameterSet: every entry point takes parameters by symbol or by name, with the
 same values, the same checks and the same messages.
 
-References: the shoe brake stops at t = I omega_0 / (2 f P R) (README, worked example 1);
+References: the shoe brake stops at t = I omega_0 / (2 f P R) (docs/guide/simulate.md, worked example 1);
 a mass m on a spring k with damper c has omega = sqrt(k/m), zeta = c / (2 sqrt(k m)); an
 undamped oscillator driven by F cos(w t) settles to the amplitude F / (k - m w^2).
 """
