@@ -45,7 +45,7 @@ myst_heading_anchors = 3
 # API reference: autosummary writes docs/api/ (generated, not committed); numpydoc
 # renders the docstrings.
 autosummary_generate = True
-autodoc_default_options = {"members": False}
+autodoc_default_options = {"members": True}
 numpydoc_show_class_members = False
 numpydoc_class_members_toctree = False
 

@@ -162,8 +162,8 @@ class OutputError(MechdynError, OSError):
 class DependencyError(MechdynError, RuntimeError):
     """An installed dependency lacks an internal that mechdyn relies on where the
     library has no public API for it (numba's function addresses, scipy's error-norm
-    hook and dense-output fields): a release outside the tested range (README,
-    "Development"). The message names the package, its version and what is missing.
+    hook and dense-output fields): a release outside the tested range
+    (docs/guide/dependencies.md). The message names the package, its version and what is missing.
 
     Examples
     --------

@@ -141,7 +141,7 @@ class Element:
     Examples
     --------
     A new element is a frozen dataclass deriving from ``Element`` whose ``work`` returns
-    a :class:`Work` (the README's "Adding an element" has one with units):
+    a :class:`Work` (the user guide's "Adding an element", docs/guide/architecture.md, has one with units):
 
     >>> from dataclasses import dataclass
     >>> import mechdyn as md

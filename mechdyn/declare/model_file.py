@@ -11,7 +11,7 @@ typed on the command line are parsed by :mod:`mechdyn.parse`, never evaluated.
 
 The bundled models ship with the package: ``load_model("shoe_brake")`` finds one by
 name from any folder, and so does ``models/shoe_brake.py`` where no ``models`` folder is
-at hand (the README's examples run in an empty folder).
+at hand (the README's and the user guide's examples run in an empty folder).
 
 >>> model = load_model("shoe_brake")
 >>> sorted(model.scenes)

@@ -1,5 +1,5 @@
-"""A scene of a mechanism as an FMI 2.0 Model Exchange FMU (see the README's "A
-mechanism as an FMU"): the checks, the variables and the archive.
+"""A scene of a mechanism as an FMI 2.0 Model Exchange FMU (see the user guide's "A
+mechanism as an FMU", docs/guide/fmu.md): the checks, the variables and the archive.
 
 States are the coordinates and speeds, parameters the scene's parameters (with their
 units and the given values as start values), inputs the parameters named in
