@@ -46,6 +46,7 @@ def test_help_lists_every_command_with_examples_and_exit_codes(capsys):
         assert status == 0 and "examples:" in out and f"mechdyn {command}" in out
 
 
+@pytest.mark.slow        # reads all 21 model files (5 s); the quick loop finds them by name
 def test_models_lists_the_bundled_models_with_scenes_and_descriptions(capsys, monkeypatch):
     monkeypatch.chdir(ROOT)
     status, out, _ = run(capsys, "models")                  # bundled: by name

@@ -52,6 +52,7 @@ def test_example_matches_the_msl_reference(name):
         f"{outcome.worst_error:.3g} at t = {outcome.worst_time:.6g}")
 
 
+@pytest.mark.slow        # 20 s of stick and slip at the MSL's tolerance: in CI's suite
 def test_tabulated_stribeck_friction_of_translational_friction_matches_the_msl_reference():
     # Issue 14 defect 3: stuck at rest, the sine force exceeds the 15 N holding capacity
     # between two step ends; the release (due at 0.41 s) must not be missed.

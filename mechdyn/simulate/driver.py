@@ -329,8 +329,7 @@ class Driver:
 
     def _after_stiffness(self, t, y, method, mode):
         """The method after a stiffness test fired; an explicit method is kept where the
-        eigenvalues show only oscillations the tolerance asks to resolve
-        (docs/guide/simulate.md)."""
+        eigenvalues show only oscillations the tolerance asks to resolve (user guide)."""
         self.plan.forget()
         if self.plan.stiff(method):
             return self._switch(t, method, self.plan.method(explicit_for(self.scene.rtol),
