@@ -24,6 +24,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from mounts import confined
+
 IDLE = 300             # s: the scheduler ends after this long without work
 DEATH = 30             # s: a worker ends after this long without its scheduler
 START_TIMEOUT = 60     # s: for the scheduler's file and the workers to register
@@ -130,39 +132,6 @@ class Cluster:
     def _alive_or_fail(self, process, deadline):
         if process.poll() is not None or time.monotonic() > deadline:
             raise RuntimeError(f"the dask scheduler did not start:\n{self.log('scheduler')}")
-
-
-_MOUNTS = {
-    # the folder seen read-only, as a shared cache mounted read-only on a cluster's nodes
-    "read-only": 'cp -a "$1/." "$0/" && mount --bind "$0" "$0" && '
-                 'mount -o remount,ro,bind "$0"',
-    # a folder on a disk with no space left: a small tmpfs filled to the last byte
-    "full": 'mount -t tmpfs -o size={size}k,mode=0700 tmpfs "$0" && cp -a "$1/." "$0/" && '
-            '{ dd if=/dev/zero of="$0/filler" bs=4k 2>/dev/null || true; }',
-}
-
-
-def confined(command, folder, how, seed=None) -> list:
-    """``command`` in a mount namespace of its own (and its children: the nanny's worker)
-    where ``folder`` is ``"read-only"`` or ``"full"``, holding a copy of the folder
-    ``seed`` (e.g. compiled kernels) if given; the rest of the machine sees no other
-    change. Needs :func:`can_confine`: permissions do not stop root (CI's user), a
-    mount does."""
-    size = 1024 + sum(4 + -(-p.stat().st_size // 4096) * 4        # KiB, in tmpfs's pages
-                      for p in Path(seed).rglob("*")) if seed else 64
-    seed = str(seed) if seed else "/nonexistent-seed"
-    script = _MOUNTS[how].replace("{size}", str(size)).replace('cp -a "$1/." "$0/"', '{ [ ! -d "$1" ] || cp -a "$1/." "$0/"; }')
-    return ["unshare", "--mount", "sh", "-c", f'{script} && shift && exec "$@"',
-            str(folder), seed, *command]
-
-
-def can_confine(folder) -> bool:
-    """Whether this process may make mount namespaces (root, or a permitting sandbox)."""
-    probe = confined(["true"], folder, "full")
-    try:
-        return subprocess.run(probe, capture_output=True, timeout=30).returncode == 0
-    except (OSError, subprocess.TimeoutExpired):
-        return False
 
 
 def _end_group(process, first):

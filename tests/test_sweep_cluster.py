@@ -29,7 +29,8 @@ distributed = pytest.importorskip("distributed")
 # not in the quick loop (the quick loop stays under two minutes on 2 cores).
 pytestmark = pytest.mark.slow
 
-from dask_cluster import Cluster, can_confine  # noqa: E402  (after the skip: needs distributed)
+from dask_cluster import Cluster  # noqa: E402
+from mounts import can_confine  # noqa: E402  (after the skip: needs distributed)
 
 ROOT = Path(__file__).resolve().parents[1]
 BRAKE = str(ROOT / "models" / "shoe_brake.py")

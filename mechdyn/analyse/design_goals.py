@@ -30,13 +30,13 @@ import sympy as sp
 
 from mechdyn.errors import MechdynError, did_you_mean
 from mechdyn.units import UnitError, to_si
-from mechdyn.analyse.measures import STEADY_MEASURES
+from mechdyn.analyse.sensitivities import CYCLE_MEASURES, RUN_MEASURES
 
 __all__ = ["Goal", "Constraint", "read_goal", "read_constraint", "GoalError",
            "OptimizeError"]
 
-_MEASURE = re.compile(r"(t_end|" + "|".join(STEADY_MEASURES) +   # the differentiable ones
-                      r"|(stop_angle|final):[A-Za-z_]\w*|stop_angle)")
+_DIFFERENTIABLE = RUN_MEASURES + CYCLE_MEASURES      # what sensitivities() differentiates
+_MEASURE = re.compile("(" + "|".join(_DIFFERENTIABLE) + r"|(stop_angle|final):[A-Za-z_]\w*)")
 _RELATION = re.compile(r"^(.*?)(<=|>=|==)(.*)$")
 _BINARY = {ast.Add: sp.Add, ast.Sub: lambda a, b: a - b, ast.Mult: sp.Mul,
            ast.Div: lambda a, b: a / b, ast.Pow: sp.Pow}
@@ -107,8 +107,7 @@ def read_goal(text, parameters) -> Goal:
         tree = ast.parse(text, mode="eval")
     except SyntaxError:
         raise GoalError(f"{text!r}: not a measure's name or an expression of parameters "
-                        "(measures: t_end, stop_angle, mean_speed, fluctuation, "
-                        "cycle_time, final:STATE)") from None
+                        f"(measures: {', '.join(_DIFFERENTIABLE)}, final:STATE)") from None
     return Goal(text, expression=_build(tree.body, text, parameters))
 
 

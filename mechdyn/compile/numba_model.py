@@ -227,7 +227,7 @@ def _load_cached(directory, key, text):
         (directory / "numba").mkdir(mode=0o700, exist_ok=True)
         lock.acquire()
     except OSError:             # a read-only folder: nobody can change what it holds
-        if _trusted(folder, text):
+        if _trusted(folder, key, text):
             return _import(folder, key, text)
         raise
     try:
@@ -236,15 +236,15 @@ def _load_cached(directory, key, text):
         lock.release()
 
 
-def _trusted(folder, text) -> bool:
+def _trusted(folder, key, text) -> bool:
     """Whether ``folder`` holds the compiled ``text`` as its manifest records it."""
-    manifest = cache.load(f"numba-{folder.name}.json")
+    manifest = cache.load(f"numba-{key}.json")
     return manifest is not None and manifest.get("module") == _digest(text.encode()) \
         and _matches(folder, manifest.get("files", {}))
 
 
 def _load_locked(folder, key, text):
-    trusted = _trusted(folder, text)
+    trusted = _trusted(folder, key, text)
     if not trusted:
         shutil.rmtree(folder, ignore_errors=True)
     module = _import(folder, key, text)

@@ -20,8 +20,8 @@ from mechdyn.derive.lagrange import derive, element_works
 from mechdyn.errors import SceneError
 from mechdyn.keys import content, foreign
 
-__all__ = ["equations", "printed_equations", "foreign_works", "check_dimensions", "reduced_inertia", "reduced_moment",
-           "transmission_functions", "element_output"]
+__all__ = ["equations", "printed_equations", "foreign_works", "check_dimensions",
+           "reduced_inertia", "reduced_moment", "transmission_functions", "element_output"]
 
 
 def equations(mechanism, scene=None):

@@ -108,15 +108,15 @@ def checked_values(mechanism, scene, params) -> tuple:
 
 
 def label_units(result, mechanism, scene):
-    """The SI unit of each coordinate and output in ``result.units`` (the outputs'
-    remembered per scene)."""
+    """The SI unit of each coordinate (rad where none is declared) and output in
+    ``result.units`` (remembered per scene)."""
     hit = mechanism._memo.get(("units", id(scene)))
     if hit is None or hit[0] is not scene:
-        hit = (scene, output_units(mechanism, scene))
+        declared = {q.func.__name__: mechanism.units.get(q.func.__name__, "rad")
+                    for q in mechanism.coordinates}
+        hit = (scene, {**declared, **output_units(mechanism, scene)})
         mechanism._memo[("units", id(scene))] = hit
-    declared = {q.func.__name__: mechanism.units.get(q.func.__name__, "rad")
-                for q in mechanism.coordinates}      # a coordinate's own unit, rad if none
-    result.units.update({label: unit for label, unit in {**declared, **hit[1]}.items()
+    result.units.update({label: unit for label, unit in hit[1].items()
                          if label not in result.units})
     return result
 

@@ -22,6 +22,8 @@ from mechdyn import cache
 from mechdyn.cache import CacheWarning
 
 ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "tests"))
+from mounts import can_confine, confined  # noqa: E402  (tests/: a folder, not a package)
 
 
 def disc(tag):
@@ -248,8 +250,6 @@ def test_a_read_only_mount_degrades_to_no_disk_cache_in_a_real_process(private_c
     """The cache folder mounted read-only (as a shared cache on a cluster's nodes; a
     mount binds root too, where permissions do not): the command succeeds, compiling
     for the process, with one warning that says why."""
-    sys.path.insert(0, str(ROOT / "tests"))
-    from dask_cluster import can_confine, confined
     run_disc(uuid.uuid4().hex)                             # the folder and its key
     if not can_confine(private_cache):
         pytest.skip("no mount namespaces here (unshare --mount)")
@@ -284,8 +284,6 @@ def test_a_read_only_mount_that_holds_the_scene_is_read_and_nothing_compiled(
     """A shared cache mounted read-only on a cluster's nodes, filled beforehand: the
     scene's compiled functions are loaded from it (numba's cache hits, no misses),
     without a warning."""
-    sys.path.insert(0, str(ROOT / "tests"))
-    from dask_cluster import can_confine, confined
     if not can_confine(private_cache.parent):
         pytest.skip("no mount namespaces here (unshare --mount)")
     share_kernels(private_cache)
