@@ -11,20 +11,22 @@ kernels, a seeded random sample of mutants, each run against the tests that reac
 
 A mutant is one small textual edit found on the module's syntax tree (:func:`mutants`);
 the sample is drawn from all of a module's mutants with ``random.Random(f"{seed}:{module}")``
-(a smaller sample is the beginning of a larger one). The tests that reach a mutant come from a
-map built once by running the quick suite under a profiler (``mutation_probe.py``); each
-mutant runs in a copy of the repository under ``mutants/slots/`` with only its file
-changed, with a fresh cache folder, fastest test first, stopping at the first failure; a
-kill counts where the unmutated package passes the same tests up to the failing one.
-Results are kept per mutant under ``mutants/results/``: a decided mutant is not run again
-(``--survivors`` reruns the survivors after tests were added). Everything else:
-docs/mutation.md.
+(a smaller sample is the beginning of a larger one). The tests that reach a mutant come
+from a map by lines, built once by running the quick suite under coverage.py, one context a
+test (``mutation_probe.py``). Each worker runs a fork server in a copy of the repository
+(``mutation_server.py``: pytest, mechdyn and the tests imported once); each mutant runs in
+a forked child that changes the imported code in memory and runs the reaching tests,
+fastest first, stopping at the first failure; a kill counts where the unmutated package
+passes the same tests up to the failing one. Results are kept per mutant under
+``mutants/results/``: a decided mutant is not run again (``--survivors`` reruns the
+survivors after tests were added). Everything else: docs/mutation.md.
 """
 from __future__ import annotations
 
 import argparse
 import ast
 import bisect
+import contextlib
 import difflib
 import functools
 import hashlib
@@ -50,8 +52,9 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 WORK = ROOT / "mutants"
 PROBE = Path(__file__).with_name("mutation_probe.py")
+SERVER = Path(__file__).with_name("mutation_server.py")
 PACKAGES = ("simulate", "compile", "derive", "kernels")
-COPIED = ("mechdyn", "tests", "benchmarks", "models", "validation", "docs", ".ci",
+COPIED = ("mechdyn", "tests", "benchmarks", "models", "validation", "docs", "examples", ".ci",
           "README.md", "pyproject.toml")
 # Not marked slow, but six minutes long: left out of the map, so no mutant runs it.
 DESELECTED = ["tests/test_drive_trains.py::"
@@ -65,9 +68,9 @@ PYTEST = ["-m", "pytest", "-q", "-p", "no:cacheprovider", "-o", "addopts=", "-m"
 # compiled function called from Python is in the map itself (numba reports such calls to
 # the profiler), one called from compiled code is not.
 COMPILED_ENTRIES = ["mechdyn/kernels/api.py", "mechdyn/compile/numba_model.py"]
-MAP_FORMAT = 2            # raise it when the map's recording (mutation_probe.py) changes
+MAP_FORMAT = 3            # raise it when the map's recording (mutation_probe.py) changes
 JIT_DECORATORS = {"njit", "jit", "intrinsic", "cfunc", "overload", "vectorize", "guvectorize"}
-STARTUP = 5.0             # s: interpreter, imports, pytest's start (3 s here), beside collection
+STARTUP = 2.0             # s: a forked child's pytest start-up and collection
 KERNEL_COMPILE = 30.0     # s: numba compiling the kernels afresh (12-15 s on a quiet core)
 CAP = 60.0                # s of a mutant's tests after which it counts as not killed (capped)
 CAPPED = 6                # the exit status of a run the probe stopped at the cap
@@ -418,49 +421,66 @@ def compiled_files() -> set:
     return found
 
 
+def statement_lines(source: str, line: int) -> range:
+    """The lines of the innermost statement holding ``line`` (of a compound statement,
+    its header only: ``if``, ``for``, ``def`` ... up to its body), where the tests that
+    ran the edited code ran some line of."""
+    best = None
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.stmt) and node.lineno <= line <= node.end_lineno:
+            body = [n for field in ("body", "orelse", "finalbody", "handlers")
+                    for n in getattr(node, field, []) if isinstance(n, ast.AST)]
+            last = min([n.lineno for n in body if n.lineno > node.lineno] or
+                       [node.end_lineno + 1]) - 1 if body else node.end_lineno
+            if node.lineno <= line <= max(last, node.lineno):
+                span = range(node.lineno, max(last, node.lineno) + 1)
+                if best is None or len(span) < len(best):
+                    best = span
+    return best or range(line, line + 1)
+
+
 class ReachMap:
-    """Which tests call which mechdyn code, how long each took (map mode of
-    mutation_probe.py, one run of the quick suite)."""
+    """Which tests ran which lines of mechdyn, how long each took (map mode of
+    mutation_probe.py, one run of the quick suite under coverage.py)."""
 
     def __init__(self, data):
         self.data = data
         self.tests = data["tests"]       # [[node id, seconds, outcome], ...] as collected
-        self.calls = {f: {int(k): v for k, v in lines.items()}
-                      for f, lines in data["calls"].items()}
+        self.lines = {f: {int(k): set(v) for k, v in lines.items()}
+                      for f, lines in data["lines"].items()}
         self.usable = {i for i, (_, _, outcome) in enumerate(self.tests) if outcome == "passed"}
         self.compiled = compiled_files()           # of the sources now: cheap, and a
                                                    # change of the rule needs no new map
-        self.at_import = {rel: set(lines) for rel, lines in data["at_import"].items()}
+        self.outside = {rel: set(lines) for rel, lines in data["outside"].items()}
         self.compiled_runs = set().union(*(self.touching(rel) for rel in COMPILED_ENTRIES))
 
     def touching(self, rel):
-        return set().union(*self.calls.get(rel, {}).values())
+        return set().union(*self.lines.get(rel, {}).values())
 
-    def reaching(self, rel: str, line: int, found: list) -> list:
-        """The usable tests that reach ``line`` of ``rel``, fastest first: those
-        that called the innermost function holding it; for module and class bodies, and
-        functions run while a module is imported (perhaps at collection, in no test),
-        also those that called anything in the file; for numba-compiled code (and the
-        bodies of the modules whose globals it reads), those that called anything in the
-        file or ran compiled code."""
+    def reaching(self, rel: str, line: int, found: list, source: str) -> list:
+        """The usable tests that reach ``line`` of ``rel``, fastest first: those that ran
+        a line of the statement holding it (:func:`statement_lines`); where that statement
+        ran outside any test (a module or class body, a default argument, a function run
+        while a module is imported), also every test that ran a line of the file; for
+        numba-compiled code (and the bodies of the modules whose globals it reads), whose
+        lines run as machine code, every test that ran a line of the file or ran
+        compiled code."""
         scope = innermost(found, line)
-        if scope is not None and not scope.jitted:
-            reached = set(self.calls.get(rel, {}).get(scope.first, ()))
-            if scope.first in self.at_import.get(rel, ()):
-                reached |= self.touching(rel)
-        elif scope is None and rel not in self.compiled:
-            reached = self.touching(rel)
-        else:
+        if scope is not None and scope.jitted or scope is None and rel in self.compiled:
             reached = self.touching(rel) | self.compiled_runs
+        else:
+            span = statement_lines(source, line)
+            ran = self.lines.get(rel, {})
+            reached = set().union(*(ran.get(n, ()) for n in span))
+            if scope is None or any(n in self.outside.get(rel, ()) for n in span):
+                reached |= self.touching(rel)
         return sorted(reached & self.usable, key=lambda i: (self.tests[i][1], i))
 
     def expected(self, tests: list, cap=math.inf) -> float:
         """Seconds the unmutated run of these tests takes (as measured in the map); with
         a ``cap``, the run stopped by it (the cap and the test running when it passes)."""
-        files = {self.tests[i][0].split("::")[0] for i in tests}
         durations = [self.tests[i][1] for i in tests]
-        return STARTUP + sum(self.data["collect"].get(f, 0.0) for f in files) + min(
-            sum(durations), cap + max(durations, default=0.0))
+        return STARTUP + min(sum(durations), cap + max(durations, default=0.0))
 
 
 MAPPED = ("mechdyn", "tests", "models", "validation", "README.md", "docs/guide",
@@ -495,10 +515,6 @@ def load_map(workers: int = 1) -> ReachMap:
 
 def build_map(path: Path, workers: int, paths=("tests",)):
     mirror = copy_repository(WORK / "slots" / "map")
-    (mirror / "sitecustomize.py").write_text(
-        "import os\nif os.environ.get('MECHDYN_MUTATION_MAP') and "
-        "os.environ.get('MECHDYN_MUTATION_TEST'):\n"
-        "    import mutation_probe\n    mutation_probe.child()\n")
     parts = mirror / "map-parts"
     parts.mkdir()
     cache = Path(tempfile.mkdtemp(prefix="cache-", dir=WORK))   # cold, as every mutant's
@@ -521,7 +537,7 @@ def build_map(path: Path, workers: int, paths=("tests",)):
 
 def merge_parts(parts: Path, seconds: float) -> dict:
     """The probe's files (one a process, one a test's child process) as one map."""
-    tests, collect, calls, at_import = {}, {}, {}, {}
+    tests, collect, lines, outside = {}, {}, {}, {}
     children = [_json(p) for p in sorted(parts.glob("child-*.json"))]
     if None in children:       # a child killed or held to a file size limit by its test
         print(f"{children.count(None)} child processes left an unfinished record: ignored")
@@ -530,16 +546,17 @@ def merge_parts(parts: Path, seconds: float) -> dict:
     for data in processes:            # not what xdist's controller saw of its workers' tests
         tests.update({n: t for n, t in data["tests"].items() if "seconds" in t})
         collect.update(data["collect"])
-    for data in children + processes:
-        for rel, lines in data["at_import"].items():
-            at_import.setdefault(rel, set()).update(lines)
     collected = processes[0]["order"] if processes else []     # the same in xdist's workers
     order = [n for n in collected if n in tests] + sorted(set(tests) - set(collected))
     index = {nodeid: i for i, nodeid in enumerate(order)}
-    for nodeid, record in [(n, tests[n]) for n in order] + [(c["test"], c) for c in children]:
-        for rel, lines in record.get("calls", {}).items() if nodeid in index else ():
-            for line in lines:
-                calls.setdefault(rel, {}).setdefault(str(line), set()).add(index[nodeid])
+    for data in children + processes:
+        for rel, ran in data["lines"].items():
+            for line, contexts in ran.items():
+                for context in contexts:
+                    if context == "":
+                        outside.setdefault(rel, set()).add(int(line))
+                    elif context in index:
+                        lines.setdefault(rel, {}).setdefault(line, set()).add(index[context])
     failing = [n for n in order if tests[n].get("outcome") == "failed"]
     if failing:
         print(f"{len(failing)} tests failed unmutated (never used to judge a mutant):",
@@ -548,9 +565,9 @@ def merge_parts(parts: Path, seconds: float) -> dict:
             "tests": [[n, tests[n].get("seconds", 0.0), tests[n].get("outcome", "passed")]
                       for n in order],
             "collect": collect,
-            "at_import": {rel: sorted(lines) for rel, lines in at_import.items()},
-            "calls": {rel: {line: sorted(ids) for line, ids in lines.items()}
-                      for rel, lines in calls.items()}}
+            "outside": {rel: sorted(found) for rel, found in outside.items()},
+            "lines": {rel: {line: sorted(ids) for line, ids in ran.items()}
+                      for rel, ran in lines.items()}}
 
 
 def _json(path):
@@ -563,8 +580,8 @@ def _json(path):
 # ---------------------------------------------------------------- running mutants
 
 def copy_repository(target: Path) -> Path:
-    """A copy of the files the tests read (modification times kept), with the probe at
-    the top."""
+    """A copy of the files the tests read (modification times kept), with the probe, the
+    fork server and a ``sitecustomize.py`` (:data:`SITE`) at the top."""
     shutil.rmtree(target, ignore_errors=True)
     target.mkdir(parents=True)
     ignore = shutil.ignore_patterns("__pycache__", "*.pyc", ".hypothesis")
@@ -574,13 +591,23 @@ def copy_repository(target: Path) -> Path:
             shutil.copytree(source, target / name, ignore=ignore)
         else:
             shutil.copy2(source, target / name)
-    shutil.copy2(PROBE, target / PROBE.name)
+    for helper in (PROBE, SERVER):
+        shutil.copy2(helper, target / helper.name)
+    (target / "sitecustomize.py").write_text(SITE)
     return target
 
 
-def _drop_bytecode(path: Path):
-    for cached in (path.parent / "__pycache__").glob(f"{path.stem}.*.pyc"):
-        cached.unlink()
+# Run by every process started with the copy on PYTHONPATH: a process a test starts while
+# the map is built records its lines; one a mutant's test starts with the cache folder it
+# inherited uses the mutant's own (it imports the mutated file, which keys its scenes).
+SITE = """import os
+if os.environ.get('MECHDYN_MUTATION_MAP') and os.environ.get('MECHDYN_MUTATION_TEST'):
+    import mutation_probe
+    mutation_probe.child()
+_sub = os.environ.get('MECHDYN_MUTATION_SUBCACHE')
+if _sub and os.environ.get('MECHDYN_CACHE') == os.environ.get('MECHDYN_MUTATION_INHERITED'):
+    os.environ['MECHDYN_CACHE'] = os.environ['MECHDYN_TESTS_CACHE_FOLDER'] = _sub
+"""
 
 
 @dataclass
@@ -591,9 +618,10 @@ class Job:
     source: str           # the module's source
     tests: list           # node ids, fastest first
     timeout: float        # s: the time box of the (capped) run
-    private: bool         # numba compiles the kernels afresh (a mutant of compiled code)
+    how: str              # "function", "module" or "compiled" (mutation_server.mutate)
     cap: float = CAP      # s of tests, after which a mutant not killed counts as capped
     control_timeout: float = None   # the uncapped control's time box (None: ``timeout``)
+    scope: Scope = None   # the outermost function holding the edit (None: module level)
 
     @property
     def rel(self):
@@ -603,14 +631,20 @@ class Job:
     def key(self):
         return key(self.source, self.mutant)
 
+    @property
+    def scenes(self) -> str:
+        """Where the mutant's scenes come from: "warm" (the shared cache: a mutant that
+        cannot change generated code), "fresh" (an empty folder: derive/ and compile/),
+        "private" (also mechdyn's kernels compiled afresh: a mutant of compiled code)."""
+        if self.how == "compiled":
+            return "private"
+        return "fresh" if self.module.split("/")[0] in ("derive", "compile") else "warm"
+
     def record(self) -> dict:
         return {"module": self.module, "index": self.index, "key": self.key,
                 "kind": self.mutant.kind, "line": self.mutant.start[0],
                 "diff": one_line(self.source, self.mutant), "tests": len(self.tests),
-                "timeout": round(self.timeout), "private_kernels": self.private}
-
-
-RUNNING = {}              # slot -> the pytest process running there (killed on Ctrl-C)
+                "timeout": round(self.timeout), "how": self.how}
 
 
 def key(source, mutant) -> str:
@@ -622,68 +656,111 @@ def result_path(module, index, name) -> Path:
     return WORK / "results" / module.replace("/", ".") / f"{index}-{name}.json"
 
 
-def _fresh_cache(slot: Path, private: bool) -> tuple:
-    """An empty cache folder for a run in ``slot`` and the run's environment. Not
-    ``private``: its ``kernels/`` is the shared one, where numba keeps the unmutated
-    kernels compiled from this slot's sources (numba names its folder after the source
-    folder's path: the slots do not share it)."""
-    cache = slot.with_name(slot.name + "-cache")
-    shutil.rmtree(cache, ignore_errors=True)
-    cache.mkdir(mode=0o700)
-    env = dict(os.environ, PYTHONPATH=str(slot), MECHDYN_CACHE=str(cache),
-               MECHDYN_TESTS_CACHE_FOLDER=str(cache))
-    for name in ("MECHDYN_MUTATION_MAP", "MECHDYN_MUTATION_TEST", "MECHDYN_TEST_CACHE"):
-        env.pop(name, None)
-    if private:                      # also the tests' own numba functions: compiled afresh
-        env["NUMBA_CACHE_DIR"] = str(cache / "numba")
-    else:
-        shared = WORK / "kernels"
-        shared.mkdir(mode=0o700, exist_ok=True)
-        (cache / "kernels").symlink_to(shared, target_is_directory=True)
-    return cache, env
+def how_to_mutate(rel, line, found, test_map) -> tuple:
+    """("compiled" | "function" | "module", the outermost function holding the line)."""
+    holding = [s for s in found if s.first <= line <= s.last]
+    outermost = min(holding, key=lambda s: s.first) if holding else None
+    scope = innermost(found, line)
+    if scope is not None and scope.jitted or scope is None and rel in test_map.compiled:
+        return "compiled", outermost
+    return ("function" if outermost else "module"), outermost
 
 
-def warm(slot: Path):
-    """Compiles the unmutated kernels of ``slot`` into the shared cache (or finds them)."""
-    env = _fresh_cache(slot, private=False)[1]
-    subprocess.run([sys.executable, "-c", "import mechdyn.kernels"], cwd=slot, env=env,
-                   stdin=subprocess.DEVNULL, check=True)
+def compiled_order(compiled: set) -> dict:
+    """{dotted name: the mechdyn modules it imports, directly or not} of the compiled set's
+    modules that numba compiles code in, dependencies first: a compiled mutant executes
+    again its own module and those of them that import it
+    (:func:`executed_again`)."""
+    chosen = {rel for rel in compiled if rel.split("/")[1] in PACKAGES + ("analyse",)
+              and any(s.jitted for s in scopes((ROOT / rel).read_text()))}
+    order = {}
+
+    def visit(rel):
+        if _dotted(rel) in order:
+            return order[_dotted(rel)]
+        order[_dotted(rel)] = None                    # an import cycle ends here
+        package = _dotted(rel) if rel.endswith("__init__.py") else _dotted(rel).rpartition(".")[0]
+        found = set()
+        for dependency in sorted(_imports(ROOT / rel, package)):
+            found |= {_dotted(dependency)} | (visit(dependency) or set())
+        del order[_dotted(rel)]
+        order[_dotted(rel)] = found
+        return found
+    for rel in sorted(chosen):
+        visit(rel)
+    return {name: deps for name, deps in order.items()
+            if _module_file(name) in chosen}
 
 
-def run_mutant(job: Job, slot: Path) -> dict:
-    """Runs ``job`` in the copy ``slot``; its record with the outcome."""
+def executed_again(module: str, compiled: dict) -> list:
+    """The modules a compiled mutant of ``module`` (dotted) executes again, in order: its
+    own, then those of the compiled set that import it."""
+    return [module] + [name for name, deps in compiled.items()
+                       if module in deps and name != module]
+
+
+class Server:
+    """A fork server (mutation_server.py) in a copy of the repository: mechdyn, pytest and
+    the tests imported once; each run a forked child."""
+
+    def __init__(self, slot: Path, warm: Path):
+        self.slot, self.warm = slot, warm
+        warm.mkdir(mode=0o700, parents=True, exist_ok=True)
+        env = dict(os.environ, PYTHONPATH=str(slot), MECHDYN_CACHE=str(warm),
+                   MECHDYN_TESTS_CACHE_FOLDER=str(warm), MECHDYN_MUTATION_INHERITED=str(warm))
+        for name in ("MECHDYN_MUTATION_MAP", "MECHDYN_MUTATION_TEST", "MECHDYN_TEST_CACHE"):
+            env.pop(name, None)
+        self.process = subprocess.Popen(
+            [sys.executable, SERVER.name, "tests", f"--ignore={HARNESS_TESTS}"], cwd=slot,
+            env=env, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True,
+            stderr=open(slot.with_name(slot.name + "-server.log"), "w"),
+            start_new_session=True)
+        ready = self.process.stdout.readline()
+        if not ready:
+            raise RuntimeError(f"the fork server in {slot} did not start: see "
+                               f"{slot.name}-server.log")
+
+    def ask(self, request: dict) -> dict:
+        self.process.stdin.write(json.dumps(request) + "\n")
+        self.process.stdin.flush()
+        reply = self.process.stdout.readline()
+        if not reply:
+            raise RuntimeError(f"the fork server in {self.slot} stopped")
+        return json.loads(reply)
+
+    def close(self):
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(self.process.pid, signal.SIGKILL)
+        self.process.wait()
+
+
+def run_mutant(job: Job, server: Server, compiled=None) -> dict:
+    """Runs ``job`` (a control, unmutated, where its index is -1) in a forked child of
+    ``server``; its record with the outcome."""
     record = dict(job.record(), commit=commit(), date=date.today().isoformat())
     if not job.tests:
         return dict(record, outcome="no tests", seconds=0.0)
-    target = slot / job.rel
-    cache, env = _fresh_cache(slot, job.private)
-    env.update(MECHDYN_MUTATION_SLOT=str(slot), MECHDYN_MUTATION_ORDER=str(cache / "tests.txt"),
-               MECHDYN_MUTATION_CAP=str(job.cap))
-    (cache / "tests.txt").write_text("\n".join(job.tests))
-    target.write_text(apply(job.source, job.mutant))
-    _drop_bytecode(target)
-    log = cache / "log.txt"
-    start = time.perf_counter()
-    try:
-        with open(log, "w") as out:
-            process = subprocess.Popen([sys.executable, *PYTEST, "-x", *job.tests],
-                                       cwd=slot, env=env, stdin=subprocess.DEVNULL, stdout=out,
-                                       stderr=subprocess.STDOUT, start_new_session=True)
-            RUNNING[slot] = process
-            try:
-                status = process.wait(job.timeout)
-            except subprocess.TimeoutExpired:
-                os.killpg(process.pid, signal.SIGKILL)     # the run and what it started
-                process.wait()
-                status = None
-        outcome, detail = classify(status, log.read_text(errors="replace"))
-    finally:
-        RUNNING.pop(slot, None)
-        shutil.copy2(ROOT / job.rel, target)
-        _drop_bytecode(target)
-    seconds = round(time.perf_counter() - start, 1)
+    slot = server.slot
+    cache = slot.with_name(slot.name + "-cache")
     shutil.rmtree(cache, ignore_errors=True)
-    return dict(record, outcome=outcome, detail=detail, seconds=seconds)
+    cache.mkdir(mode=0o700)
+    scenes = job.scenes if job.index >= 0 else "warm"
+    if scenes != "private":        # processes the tests start load the unmutated kernels
+        (cache / "kernels").symlink_to(server.warm / "kernels", target_is_directory=True)
+    log = cache.with_name(cache.name + ".log")
+    request = {"file": job.rel, "module": _dotted(job.rel), "tests": job.tests,
+               "cap": job.cap, "timeout": job.timeout, "log": str(log),
+               "cache": str(server.warm if scenes == "warm" else cache),
+               "subcache": str(cache),
+               "source": apply(job.source, job.mutant) if job.index >= 0 else None,
+               "how": job.how,
+               "compiled": executed_again(_dotted(job.rel), compiled) if compiled else [],
+               "qualname": job.scope.name if job.scope else None,
+               "first": job.scope.first if job.scope else None}
+    reply = server.ask(request)
+    outcome, detail = classify(reply["status"], log.read_text(errors="replace"))
+    shutil.rmtree(cache, ignore_errors=True)
+    return dict(record, outcome=outcome, detail=detail, seconds=reply["seconds"])
 
 
 class LeftOut:
@@ -701,17 +778,18 @@ class LeftOut:
             self.path.write_text(json.dumps(sorted(self.tests), indent=1))
 
 
-def decide(job: Job, slot: Path, left_out: LeftOut, controls: Path) -> dict:
+def decide(job: Job, server: Server, left_out: LeftOut, controls: Path,
+           compiled=None) -> dict:
     """Runs a mutant. A kill (or a timeout) stands where the unmutated package passes the
     same tests in the same order up to the one that failed (:func:`control`); where it
     fails too, that test is left out and the mutant run again."""
     start = time.perf_counter()
     for _ in range(5):
         job.tests = [t for t in job.tests if t not in left_out.tests]
-        result = run_mutant(job, slot)
+        result = run_mutant(job, server, compiled)
         if result["outcome"] not in ("killed", "timeout"):
             break
-        failing = control(job, result, slot, controls)
+        failing = control(job, result, server, controls)
         if failing is None:
             result["controlled"] = True
             break
@@ -728,7 +806,7 @@ _CONTROL_LOCKS: dict = {}      # a control's file -> the lock its first runner h
 _CONTROL_LOCKS_LOCK = threading.Lock()
 
 
-def control(job: Job, result: dict, slot: Path, controls: Path):
+def control(job: Job, result: dict, server: Server, controls: Path):
     """The unmutated package's run of the mutant's tests up to the one that failed (all
     of them after a crash or a timeout), uncapped, in the time box of those tests' whole
     run: None where it passes, else the test that failed or what happened. Kept by the list of tests: kills at the
@@ -742,8 +820,8 @@ def control(job: Job, result: dict, slot: Path, controls: Path):
     with lock:                                 # one run per list of tests, whoever asks
         if not path.is_file():
             plain = Job(job.module, -1, Mutant((1, 0), (1, 0), "", "none"), job.source,
-                        tests, job.control_timeout or job.timeout, False, math.inf)
-            outcome = run_mutant(plain, slot)
+                        tests, job.control_timeout or job.timeout, "module", math.inf)
+            outcome = run_mutant(plain, server)
             path.parent.mkdir(parents=True, exist_ok=True)
             path.write_text(json.dumps({k: outcome[k]
                                         for k in ("outcome", "detail", "seconds")}))
@@ -887,13 +965,13 @@ def jobs(chosen, test_map: ReachMap, survivors_only=False, cap=CAP) -> list:
             if not wanted:
                 continue
             mutant = found[index]
-            tests = test_map.reaching(rel, mutant.start[0], found_scopes)
-            private = rel in test_map.compiled
-            compile_ = KERNEL_COMPILE if private else 0.0
+            tests = test_map.reaching(rel, mutant.start[0], found_scopes, source)
+            how, scope = how_to_mutate(rel, mutant.start[0], found_scopes, test_map)
+            compile_ = KERNEL_COMPILE if how == "compiled" else 0.0
             queue.append(Job(module, index, mutant, source,
                              [test_map.tests[i][0] for i in tests],
-                             time_box(test_map.expected(tests, cap) + compile_), private, cap,
-                             time_box(test_map.expected(tests) + compile_)))
+                             time_box(test_map.expected(tests, cap) + compile_), how, cap,
+                             time_box(test_map.expected(tests) + compile_), scope))
         queues.append(queue)
     return [job for round_ in _round_robin(queues) for job in round_]
 
@@ -921,15 +999,19 @@ def run(todo: list, workers: int, budget_minutes=None, left_out=None) -> float:
     deadline = math.inf if budget_minutes is None else start + 60 * budget_minutes
     lock, queue, done, stop = threading.Lock(), list(todo), [0], threading.Event()
 
+    compiled = compiled_order(compiled_files())
+    servers = []
+
     def work(number):
-        slot = copy_repository(WORK / "slots" / f"w{number}")
-        warm(slot)
+        server = Server(copy_repository(WORK / "slots" / f"w{number}"), WORK / f"warm-w{number}")
+        servers.append(server)
         while True:
             with lock:
                 if not queue or time.perf_counter() > deadline:
+                    server.close()
                     return
                 job = queue.pop(0)
-            result = decide(job, slot, left_out, controls)
+            result = decide(job, server, left_out, controls, compiled)
             if stop.is_set():                  # interrupted: killed by us, not by a test
                 return
             path = result_path(job.module, job.index, job.key)
@@ -953,8 +1035,8 @@ def run(todo: list, workers: int, budget_minutes=None, left_out=None) -> float:
         stop.set()
         with lock:
             queue.clear()
-        for process in list(RUNNING.values()):
-            os.killpg(process.pid, signal.SIGKILL)
+        for server in servers:
+            server.close()
         for thread in threads:
             thread.join()
         raise

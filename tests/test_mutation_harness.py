@@ -147,16 +147,23 @@ def test_outcomes_from_pytest_status():
 
 
 def test_workers_share_the_queue_and_a_spent_budget_starts_nothing(tmp_path, monkeypatch):
-    """run() with the processes left out: each worker has its own copy (slot), every job
+    """run() with the fork servers left out: each worker has its own server, every job
     runs once, two workers' kills at the same test share one control run, results land
     in mutants/results/, and a spent budget starts no job."""
     monkeypatch.setattr(mutation, "WORK", tmp_path)
     monkeypatch.setattr(mutation, "copy_repository", lambda target: target)
-    monkeypatch.setattr(mutation, "warm", lambda slot: None)
+
+    class Server:
+        def __init__(self, slot, warm):
+            self.slot = slot
+
+        def close(self):
+            pass
+    monkeypatch.setattr(mutation, "Server", Server)
     ran = []
 
-    def fake(job, slot):                # killed; its control (index -1) passes
-        ran.append((job.index, slot.name))
+    def fake(job, server, compiled=None):  # killed; its control (index -1) passes
+        ran.append((job.index, server.slot.name))
         if job.index < 0:
             time.sleep(0.2)             # the other worker asks for the same control meanwhile
         outcome = "survived" if job.index < 0 else "killed"
@@ -164,7 +171,8 @@ def test_workers_share_the_queue_and_a_spent_budget_starts_nothing(tmp_path, mon
                     seconds=0.0, commit="c", date="d")
     monkeypatch.setattr(mutation, "run_mutant", fake)
     found = mutation.mutants(SOURCE)
-    todo = [mutation.Job("x/y", i, m, SOURCE, ["t"], 60.0, False) for i, m in enumerate(found)]
+    todo = [mutation.Job("x/y", i, m, SOURCE, ["t"], 60.0, "function")
+            for i, m in enumerate(found)]
     mutation.run(todo, workers=2)
     assert sorted(i for i, _ in ran) == [-1] + list(range(len(found)))   # one control
     assert {slot for _, slot in ran} <= {"w0", "w1"}
@@ -174,43 +182,149 @@ def test_workers_share_the_queue_and_a_spent_budget_starts_nothing(tmp_path, mon
     assert ran == []
 
 
-def test_a_run_past_the_cap_stops_between_tests_and_counts_as_not_killed(tmp_path):
-    """The probe in mutant mode: after MECHDYN_MUTATION_CAP seconds of tests no further
-    test starts, the run exits with the capped status and classify() calls it capped (not
-    killed, not survived); without a cap the same tests all run and pass."""
-    import os
-    import shutil
+def _pytest_with_probe(folder, order, cap):
     import subprocess
+    code = ("import sys, pytest, mutation_probe\n"
+            f"sys.exit(pytest.main(['-q', '-x', '-p', 'no:cacheprovider', '-o', 'addopts=', "
+            f"'tests'], plugins=[mutation_probe.Ordered({order!r}, float({str(cap)!r}))]))")
+    done = subprocess.run([sys.executable, "-c", code], cwd=folder, capture_output=True,
+                          text=True, env={**__import__("os").environ, "PYTHONPATH": str(folder)})
+    return done.returncode, done.stdout + done.stderr
+
+
+def test_a_run_past_the_cap_stops_between_tests_and_counts_as_not_killed(tmp_path):
+    """The probe in mutant mode: after ``cap`` seconds of tests no further test starts,
+    the run exits with the capped status and classify() calls it capped (not killed, not
+    survived); without a cap the same tests all run and pass, in the order given."""
+    import shutil
     shutil.copy(_PATH.with_name("mutation_probe.py"), tmp_path)
     (tmp_path / "tests").mkdir()
     (tmp_path / "tests" / "test_a.py").write_text(
-        "import time\n" + "".join(f"def test_{i}():\n    time.sleep(0.1)\n" for i in range(4)))
-    order = tmp_path / "order.txt"
-    order.write_text("\n".join(f"tests/test_a.py::test_{i}" for i in range(4)))
-
-    def run(**extra):
-        env = dict(os.environ, PYTHONPATH=str(tmp_path), MECHDYN_MUTATION_ORDER=str(order),
-                   MECHDYN_MUTATION_SLOT=str(tmp_path), **extra)
-        done = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider",
-                               "-o", "addopts=", "-p", "mutation_probe", "-x", "tests"],
-                              cwd=tmp_path, env=env, capture_output=True, text=True)
-        return done.returncode, done.stdout + done.stderr
-
-    status, output = run(MECHDYN_MUTATION_CAP="0.05")    # passed after the first test
+        "import time\nSEEN = []\n" + "".join(
+            f"def test_{i}():\n    time.sleep(0.1)\n    SEEN.append({i})\n"
+            f"    assert SEEN[0] == 3\n" for i in range(4)))
+    order = [f"tests/test_a.py::test_{i}" for i in (3, 0, 1, 2)]
+    status, output = _pytest_with_probe(tmp_path, order, 0.05)    # passed after the first
     assert status == mutation.CAPPED
     outcome, detail = mutation.classify(status, output)
     assert outcome == "capped" and detail.startswith("mutation cap: 1 tests passed")
-    status, output = run()
+    status, output = _pytest_with_probe(tmp_path, order, float("inf"))
     assert status == 0 and "4 passed" in output
 
 
 def test_a_capped_run_is_expected_to_end_after_the_cap_and_the_test_then_running():
-    """The time box of a mutant's run follows the cap: start-up, the files' collection,
-    the cap and the longest test (the one running when the cap passes); uncapped, all."""
+    """The time box of a mutant's run follows the cap: start-up, the cap and the longest
+    test (the one running when the cap passes); uncapped, all."""
     data = {"tests": [["tests/a.py::t1", 30.0, "passed"], ["tests/a.py::t2", 50.0, "passed"],
-                      ["tests/b.py::t3", 40.0, "passed"]],
-            "calls": {}, "at_import": {}, "collect": {"tests/a.py": 2.0, "tests/b.py": 3.0}}
+                      ["tests/b.py::t3", 40.0, "passed"]], "lines": {}, "outside": {}}
     reach = mutation.ReachMap(data)
-    assert reach.expected([0, 1, 2]) == mutation.STARTUP + 5.0 + 120.0
-    assert reach.expected([0, 1, 2], cap=60.0) == mutation.STARTUP + 5.0 + 60.0 + 50.0
-    assert reach.expected([0], cap=60.0) == mutation.STARTUP + 2.0 + 30.0
+    assert reach.expected([0, 1, 2]) == mutation.STARTUP + 120.0
+    assert reach.expected([0, 1, 2], cap=60.0) == mutation.STARTUP + 60.0 + 50.0
+    assert reach.expected([0], cap=60.0) == mutation.STARTUP + 30.0
+
+
+LINES = '''import math
+
+LIMIT = 3
+
+
+def f(a, b=2):
+    if (a > LIMIT
+            and b):
+        return math.sqrt(a)
+    return -a
+
+
+def g(a):
+    return [a + k for k in range(2)]
+'''
+
+
+def test_the_statement_holding_a_line_is_its_header_for_compound_statements():
+    assert list(mutation.statement_lines(LINES, 7)) == [7, 8]     # the if's two lines
+    assert list(mutation.statement_lines(LINES, 8)) == [7, 8]
+    assert list(mutation.statement_lines(LINES, 9)) == [9]
+    assert list(mutation.statement_lines(LINES, 6)) == [6]        # a default argument
+    assert list(mutation.statement_lines(LINES, 3)) == [3]
+
+
+def test_a_mutant_is_reached_by_the_tests_that_ran_its_statement():
+    """Line-level: a test that ran f without reaching its last line does not judge a
+    mutant there; a line run outside any test (module level, def's default) is reached
+    by every test that ran the file; a line no test ran has no tests."""
+    rel = "mechdyn/toy.py"
+    data = {"tests": [["t::a", 1.0, "passed"], ["t::b", 2.0, "passed"],
+                      ["t::c", 0.5, "passed"], ["t::d", 0.1, "failed"]],
+            "lines": {rel: {"7": [0, 1, 3], "8": [1], "9": [0], "10": [1], "14": [2]}},
+            "outside": {rel: [1, 3, 6, 13]}}
+    reach = mutation.ReachMap(data)
+    reach.compiled = set()
+    found = mutation.scopes(LINES)
+    assert reach.reaching(rel, 9, found, LINES) == [0]
+    assert reach.reaching(rel, 10, found, LINES) == [1]
+    assert reach.reaching(rel, 7, found, LINES) == [0, 1]          # not the failing one
+    assert reach.reaching(rel, 3, found, LINES) == [2, 0, 1]       # fastest first
+    assert reach.reaching(rel, 6, found, LINES) == [2, 0, 1]
+    assert reach.reaching("mechdyn/other.py", 9, found, LINES) == []
+
+
+def test_how_a_mutant_is_made_in_memory():
+    class Map:
+        compiled = {"mechdyn/kernels/x.py"}
+    found = mutation.scopes(SOURCE)
+    assert mutation.how_to_mutate("mechdyn/a.py", 10, found, Map)[0] == "function"
+    assert mutation.how_to_mutate("mechdyn/a.py", 10, found, Map)[1].name == "f"
+    assert mutation.how_to_mutate("mechdyn/a.py", 19, found, Map)[0] == "compiled"
+    assert mutation.how_to_mutate("mechdyn/a.py", 24, found, Map)[0] == "module"
+    assert mutation.how_to_mutate("mechdyn/kernels/x.py", 24, found, Map)[0] == "compiled"
+
+
+def test_a_compiled_mutant_executes_again_its_module_and_those_that_import_it():
+    compiled = mutation.compiled_order(mutation.compiled_files())
+    names = list(compiled)
+    again = mutation.executed_again("mechdyn.kernels.linalg", compiled)
+    assert again[0] == "mechdyn.kernels.linalg"
+    assert {"mechdyn.kernels.loop", "mechdyn.compile.mode_numerics"} <= set(again)
+    assert names.index("mechdyn.kernels.iteration") < names.index("mechdyn.kernels.loop")
+    assert "mechdyn.kernels.loop" not in mutation.executed_again(
+        "mechdyn.compile.mode_numerics", compiled)
+
+
+def _server():
+    spec = importlib.util.spec_from_file_location("mutation_server_under_test",
+                                                  _PATH.with_name("mutation_server.py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_the_fork_server_swaps_a_function_and_executes_a_module_again(tmp_path, monkeypatch):
+    """mutate(): a function's code is swapped where every reference sees it (a method,
+    a decorated function); a module-level edit executes the module again and points the
+    references other modules took (``from x import y``) at the new objects, a number only
+    under its own name."""
+    server = _server()
+    toy = tmp_path / "mechdyn_toy_a.py"
+    toy.write_text("LIMIT = 3\n\n\nclass C:\n    def m(self):\n        return LIMIT + 1\n"
+                   "\n\n@__import__('functools').cache\ndef twice(x):\n    return 2 * x\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    monkeypatch.delitem(sys.modules, "mechdyn_toy_a", raising=False)
+    monkeypatch.delitem(sys.modules, "mechdyn_toy_b", raising=False)
+    (tmp_path / "mechdyn_toy_b.py").write_text(
+        "from mechdyn_toy_a import LIMIT, C, twice\nTHREE = 3\n")
+    import mechdyn_toy_a
+    import mechdyn_toy_b
+    source = toy.read_text()
+    held = mechdyn_toy_b.C()
+    assert (held.m(), mechdyn_toy_b.twice(5)) == (4, 10)
+    how = server.mutate({"module": "mechdyn_toy_a", "how": "function", "qualname": "C.m",
+                         "first": 5, "source": source.replace("LIMIT + 1", "LIMIT - 1")})
+    assert how == "function" and held.m() == 2                     # the same object
+    how = server.mutate({"module": "mechdyn_toy_a", "how": "function", "qualname": "twice",
+                         "first": 9, "source": source.replace("2 * x", "2 + x")})
+    assert how == "function" and mechdyn_toy_b.twice(5) == 7        # its cache emptied
+    how = server.mutate({"module": "mechdyn_toy_a", "how": "module", "qualname": None,
+                         "first": None, "source": source.replace("LIMIT = 3", "LIMIT = 4")})
+    assert how == "module"
+    assert (mechdyn_toy_a.LIMIT, mechdyn_toy_b.LIMIT, mechdyn_toy_b.THREE) == (4, 4, 3)
+    assert mechdyn_toy_b.C is mechdyn_toy_a.C and mechdyn_toy_b.C().m() == 5
