@@ -744,7 +744,7 @@ def run_mutant(job: Job, server: Server, compiled=None) -> dict:
     cache = slot.with_name(slot.name + "-cache")
     shutil.rmtree(cache, ignore_errors=True)
     cache.mkdir(mode=0o700)
-    scenes = job.scenes if job.index >= 0 else "warm"
+    scenes = job.scenes
     if scenes != "private":        # processes the tests start load the unmutated kernels
         (cache / "kernels").symlink_to(server.warm / "kernels", target_is_directory=True)
     log = cache.with_name(cache.name + ".log")
@@ -809,18 +809,19 @@ _CONTROL_LOCKS_LOCK = threading.Lock()
 def control(job: Job, result: dict, server: Server, controls: Path):
     """The unmutated package's run of the mutant's tests up to the one that failed (all
     of them after a crash or a timeout), uncapped, in the time box of those tests' whole
-    run: None where it passes, else the test that failed or what happened. Kept by the list of tests: kills at the
+    run, with the mutant's caches (:attr:`Job.scenes`): None where it passes, else the test
+    that failed or what happened. Kept by the list of tests and the caches: kills at the
     same place are checked once."""
     failed = _node(result["detail"])
     tests = job.tests[:job.tests.index(failed) + 1] if failed in job.tests else job.tests
-    path = controls / (hashlib.blake2b("\n".join(tests).encode(), digest_size=8).hexdigest()
-                       + ".json")
+    name = "\n".join([job.scenes, *tests])
+    path = controls / (hashlib.blake2b(name.encode(), digest_size=8).hexdigest() + ".json")
     with _CONTROL_LOCKS_LOCK:
         lock = _CONTROL_LOCKS.setdefault(path, threading.Lock())
     with lock:                                 # one run per list of tests, whoever asks
         if not path.is_file():
             plain = Job(job.module, -1, Mutant((1, 0), (1, 0), "", "none"), job.source,
-                        tests, job.control_timeout or job.timeout, "module", math.inf)
+                        tests, job.control_timeout or job.timeout, job.how, math.inf)
             outcome = run_mutant(plain, server)
             path.parent.mkdir(parents=True, exist_ok=True)
             path.write_text(json.dumps({k: outcome[k]
