@@ -74,6 +74,7 @@ STARTUP = 2.0             # s: a forked child's pytest start-up and collection
 KERNEL_COMPILE = 30.0     # s: numba compiling the kernels afresh (12-15 s on a quiet core)
 CAP = 60.0                # s of a mutant's tests after which it counts as not killed (capped)
 CAPPED = 6                # the exit status of a run the probe stopped at the cap
+NOT_LOADED = 7            # ... of a child whose mutated module did not execute (mutation_server)
 DECIDED = {"killed", "timeout", "import error", "survived", "capped", "no tests"}
 CAUGHT = {"killed", "timeout", "import error"}
 UNCAUGHT = DECIDED - CAUGHT   # the survivors of the table, rerun by --survivors
@@ -852,6 +853,8 @@ def classify(status, output: str) -> tuple:
         return "capped", said[said.find("mutation cap"):].strip(" !")
     if status == 1:
         return "killed", failed[0] if failed else ""
+    if status == NOT_LOADED:
+        return "import error", next((l for l in lines if l.startswith("mutant does not load")), "")
     if status in (2, 4) and any(("during collection" in l or "ERROR collecting" in l or
                                  "found no collectors" in l) for l in lines):
         return "import error", next((l for l in lines if "ERROR collecting" in l), "").strip(" _")

@@ -19,7 +19,8 @@ order, the cap and the time box. The child
     set (in the request, dependencies first) is executed again: numba compiles the
     kernels afresh in the child, with the mutant;
 - runs the tests with pytest in-process, stopping at the first failure, and exits with
-  pytest's status; the server answers with it (``None`` for a child killed at its time
+  pytest's status (7 where the mutated module does not execute or compile: an import
+  error); the server answers with it (``None`` for a child killed at its time
   box) and the seconds taken.
 
 A mutant's scenes: the digest of mechdyn's sources (``mechdyn.keys.source_digest``) is
@@ -40,6 +41,7 @@ import traceback
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent
+NOT_LOADED, NOT_LOADED_STATUS = "mutant does not load:", 7     # its module fails to execute
 PYTEST_ARGS = ["-q", "-x", "-p", "no:cacheprovider", "-o", "addopts=", "-m", "not slow",
                "--hypothesis-profile=mutation"]
 
@@ -192,7 +194,13 @@ def _run_child(request):
     os.environ["PYTHONDONTWRITEBYTECODE"] = "1"
     if request.get("source") is not None:
         Path(ROOT, request["file"]).write_text(request["source"])
-        print(f"mutated in memory: {mutate(request)}", flush=True)
+        try:
+            print(f"mutated in memory: {mutate(request)}", flush=True)
+        except Exception as error:              # noqa: BLE001 (the mutant's import fails)
+            traceback.print_exc()
+            print(f"{NOT_LOADED} {type(error).__name__}: {str(error).splitlines()[0][:200]}"
+                  if str(error) else f"{NOT_LOADED} {type(error).__name__}", flush=True)
+            return NOT_LOADED_STATUS
     return pytest.main([*PYTEST_ARGS, *request["tests"]],
                        plugins=[Ordered(request["tests"], request["cap"])])
 

@@ -143,6 +143,8 @@ def test_outcomes_from_pytest_status():
     assert mutation.classify(4, "__ ERROR collecting tests/a.py __\nERROR: found no collectors "
                                 "for tests/a.py::t") == ("import error", "ERROR collecting tests/a.py")
     assert mutation.classify(-11, "")[0] == "killed"
+    assert mutation.classify(7, "Traceback\nmutant does not load: TypingError: x\n") == (
+        "import error", "mutant does not load: TypingError: x")
     assert mutation.classify(4, "usage")[0] == "error"
 
 
