@@ -431,3 +431,30 @@ def test_the_mode_entries_are_keyed_on_the_numerics_they_are_compiled_from(tmp_p
     before = mode_entry._fingerprint()
     copies[0].write_text(copies[0].read_text().replace("out[n + i] = 0.0", "out[n - i] = 0.0"))
     assert mode_entry._fingerprint() != before
+
+
+def _geared_pair(independent):
+    """A slider x (1 kg) on a spring (10 N/m) geared to a wheel y (2 kg m^2) by a rack of
+    pitch radius 2 (x = 2 y): one degree of freedom, m_red = 1 + 2 / 2^2 = 1.5 kg along x."""
+    x, y = md.coordinate("x"), md.coordinate("y")
+    mech = md.Mechanism("geared pair", [x, y], independent=independent(x, y))
+    mech.link("slider", m=1, x=x)
+    mech.link("wheel", J=2, angle=y)
+    mech.constraint("rack", x - 2 * y)
+    mech.spring("spring", 10, stretch=x)
+    return mech, x, y
+
+
+def test_the_choice_of_independent_coordinate_keys_the_compiled_code(tmp_path, monkeypatch,
+                                                                      share_kernels):
+    """The same elements with the other coordinate independent integrate another state
+    vector: each choice gets its own code, and both swing as x = 0.2 cos(sqrt(10 / 1.5) t)
+    (a stale key served the first choice's code to the second: "missing xdot")."""
+    monkeypatch.setenv("MECHDYN_CACHE", str(share_kernels(tmp_path / "cache")))
+    for independent in (lambda x, y: x, lambda x, y: y):
+        mech, x, y = _geared_pair(independent)
+        free = independent(x, y)
+        start = {x: 0.2, y: 0.1, md.speed(free): 0}
+        res = mech.simulate(md.Scene("swing", initial=start, t_end=1), {})
+        assert res.final(x) == pytest.approx(0.2 * np.cos(np.sqrt(10 / 1.5)), rel=1e-6)
+        assert res.final(y) == pytest.approx(res.final(x) / 2, rel=1e-9)

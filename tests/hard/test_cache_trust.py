@@ -56,6 +56,9 @@ def entry(directory, key):
 def test_the_directory_and_key_are_private_and_entries_authenticated(private_cache):
     key = run_disc(uuid.uuid4().hex)
     assert stat.S_IMODE(private_cache.stat().st_mode) == 0o700
+    if (private_cache / "numba").exists():      # the compiled backend's scene folders too
+        assert stat.S_IMODE((private_cache / "numba").stat().st_mode) == 0o700
+        assert stat.S_IMODE((private_cache / "numba" / key).stat().st_mode) == 0o700
     assert stat.S_IMODE((private_cache / "key").stat().st_mode) == 0o600
     assert len((private_cache / "key").read_bytes()) == 32
     stored = cache.load(entry(private_cache, key).name)
