@@ -403,6 +403,19 @@ def _dotted(rel):
     return rel[:-3].replace("/", ".").removesuffix(".__init__")
 
 
+@functools.cache
+def importers(rel: str) -> frozenset:
+    """The files of the mechdyn modules that import ``rel`` directly."""
+    found = set()
+    for path in (ROOT / "mechdyn").rglob("*.py"):
+        other = path.relative_to(ROOT).as_posix()
+        package = _dotted(other) if other.endswith("__init__.py") else \
+            _dotted(other).rpartition(".")[0]
+        if rel in _imports(path, package):
+            found.add(other)
+    return frozenset(found)
+
+
 def compiled_files() -> set:
     """mechdyn's files whose code numba compiles, and the mechdyn modules they import
     (their globals are frozen into the machine code): a mutant of one of them must not
@@ -465,10 +478,16 @@ class ReachMap:
         while a module is imported), also every test that ran a line of the file; for
         numba-compiled code (and the bodies of the modules whose globals it reads), whose
         lines run as machine code, every test that ran a line of the file or ran
-        compiled code."""
+        compiled code: first those that ran a line of it or of a module importing it (the
+        Python that calls it: a stuck friction's mode entries for the mode numerics),
+        then the others, each part fastest first."""
         scope = innermost(found, line)
         if scope is not None and scope.jitted or scope is None and rel in self.compiled:
-            reached = self.touching(rel) | self.compiled_runs
+            near = self.touching(rel).union(*(self.touching(f) for f in importers(rel)
+                                              if f not in COMPILED_ENTRIES)) & self.usable
+            rest = (self.compiled_runs & self.usable) - near
+            return [i for part in (near, rest)
+                    for i in sorted(part, key=lambda i: (self.tests[i][1], i))]
         else:
             span = statement_lines(source, line)
             ran = self.lines.get(rel, {})

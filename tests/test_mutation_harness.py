@@ -270,6 +270,19 @@ def test_a_mutant_is_reached_by_the_tests_that_ran_its_statement():
     assert reach.reaching("mechdyn/other.py", 9, found, LINES) == []
 
 
+def test_a_compiled_mutant_runs_first_the_tests_that_ran_its_file_then_every_compiled_run():
+    """numba-compiled lines are unseen by coverage: every test that ran compiled code
+    reaches them, those that ran Python of the file (or of its importers) first."""
+    rel = "mechdyn/toy.py"
+    data = {"tests": [["t::a", 1.0, "passed"], ["t::b", 2.0, "passed"], ["t::c", 0.5, "passed"]],
+            "lines": {rel: {"9": [1]}, "mechdyn/kernels/api.py": {"1": [0, 1, 2]}},
+            "outside": {}}
+    reach = mutation.ReachMap(data)
+    reach.compiled = {rel}
+    assert reach.reaching(rel, 3, mutation.scopes(LINES), LINES) == [1, 2, 0]
+    assert "mechdyn/compile/mode_entry.py" in mutation.importers("mechdyn/compile/mode_numerics.py")
+
+
 def test_how_a_mutant_is_made_in_memory():
     class Map:
         compiled = {"mechdyn/kernels/x.py"}
