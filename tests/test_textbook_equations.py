@@ -216,3 +216,30 @@ def test_every_bundled_model_named_derivation_agrees_with_lagrange(name):
     latex = model.mechanism.latex()
     if name == "press_cycle":                  # a force along the ram's (negated) height
         assert "F_{\\text{workpiece}}\\left(\\phi\\right) &=" in latex
+
+
+@pytest.mark.parametrize("expanded", [False, True])
+def test_the_derivation_prints_the_energy_functions_there_are_and_only_those(expanded):
+    """A disc (J = 2) on a spring (5) prints T and V; with a damper (3) also the
+    dissipation function D = 3 phidot^2 / 2; without, no D line (nor a V line without
+    the spring), in the named and the expanded derivation alike."""
+    def disc(spring, damper):
+        phi = md.coordinate("phi")
+        mech = md.Mechanism("disc", [phi])
+        mech.link("disc", J=2, angle=phi)
+        if spring:
+            mech.spring("spring", 5, stretch=phi)
+        if damper:
+            mech.damper("damper", 3, stretch=phi)
+        mech.load("drive", 1, along=phi)
+        lines = [line.split("&=")[0].strip() for line in
+                 mech.latex(expanded=expanded).splitlines() if "&=" in line]
+        return lines, mech.latex(expanded=expanded)
+
+    lines, text = disc(spring=True, damper=True)
+    assert lines[:3] == ["T", "V", "D"]
+    assert r"D &= \frac{3 \dot{\phi}^{2}}{2} \\" in text
+    lines, _ = disc(spring=True, damper=False)
+    assert lines[:2] == ["T", "V"] and "D" not in lines
+    lines, _ = disc(spring=False, damper=False)
+    assert lines[0] == "T" and "V" not in lines and "D" not in lines
