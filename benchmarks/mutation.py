@@ -416,6 +416,14 @@ def importers(rel: str) -> frozenset:
     return frozenset(found)
 
 
+@functools.cache
+def testing(rel: str) -> frozenset:
+    """The test files (tests/..., relative to ROOT) that import ``rel`` directly."""
+    return frozenset(path.relative_to(ROOT).as_posix()
+                     for path in (ROOT / "tests").rglob("test_*.py")
+                     if rel in _imports(path, "tests"))
+
+
 def compiled_files() -> set:
     """mechdyn's files whose code numba compiles, and the mechdyn modules they import
     (their globals are frozen into the machine code): a mutant of one of them must not
@@ -479,12 +487,16 @@ class ReachMap:
         numba-compiled code (and the bodies of the modules whose globals it reads), whose
         lines run as machine code, every test that ran a line of the file or ran
         compiled code: first those that ran a line of it or of a module importing it (the
-        Python that calls it: a stuck friction's mode entries for the mode numerics),
+        Python that calls it: a stuck friction's mode entries for the mode numerics), and
+        those of test files importing it (that call its compiled functions from Python),
         then the others, each part fastest first."""
         scope = innermost(found, line)
         if scope is not None and scope.jitted or scope is None and rel in self.compiled:
-            near = self.touching(rel).union(*(self.touching(f) for f in importers(rel)
-                                              if f not in COMPILED_ENTRIES)) & self.usable
+            files = testing(rel)
+            near = self.touching(rel).union(
+                *(self.touching(f) for f in importers(rel) if f not in COMPILED_ENTRIES),
+                {i for i, (node, _, _) in enumerate(self.tests)
+                 if node.split("::")[0] in files}) & self.usable
             rest = (self.compiled_runs & self.usable) - near
             return [i for part in (near, rest)
                     for i in sorted(part, key=lambda i: (self.tests[i][1], i))]

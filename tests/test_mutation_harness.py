@@ -281,6 +281,8 @@ def test_a_compiled_mutant_runs_first_the_tests_that_ran_its_file_then_every_com
     reach.compiled = {rel}
     assert reach.reaching(rel, 3, mutation.scopes(LINES), LINES) == [1, 2, 0]
     assert "mechdyn/compile/mode_entry.py" in mutation.importers("mechdyn/compile/mode_numerics.py")
+    assert "tests/test_band_linalg.py" in mutation.testing("mechdyn/compile/band_linalg.py")
+    assert "tests/test_sparse_kernel.py" in mutation.testing("mechdyn/kernels/iteration.py")
 
 
 def test_how_a_mutant_is_made_in_memory():
