@@ -55,3 +55,18 @@ def test_a_start_where_the_equations_divide_by_zero_is_a_named_error():
     scene = md.Scene("s", initial={x: 0, md.speed(x): 0}, t_end=1)
     with pytest.raises(md.MechdynError, match="x = 0"):
         pushed_mass(k / x).simulate(scene, VALUES)
+
+
+@pytest.mark.parametrize("backend", ["compiled", "scipy"])
+def test_a_switch_between_parameters_only_drives_with_the_larger_one(backend):
+    """A moment Max(M1, M2) of parameters alone (its switch involves no coordinate, so
+    no event watches it): a disc of J = 2 turns phi = M t^2 / (2 J) with M the larger,
+    0.75 rad after 1 s for (2, 3) and for (3, 2)."""
+    phi = md.coordinate("phi")
+    M1, M2 = sp.symbols("M1 M2", positive=True)
+    mech = md.Mechanism("larger drive", [phi])
+    mech.link("disc", J=2, angle=phi)
+    mech.load("drive", sp.Max(M1, M2), along=phi)
+    scene = md.Scene("spin", initial={phi: 0, md.speed(phi): 0}, t_end=1, backend=backend)
+    for values in ({M1: 2, M2: 3}, {M1: 3, M2: 2}):
+        assert mech.simulate(scene, values).final(phi) == pytest.approx(0.75, rel=1e-9)
