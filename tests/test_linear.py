@@ -105,3 +105,6 @@ def test_errors_name_the_culprit(two_mass):
         mech.linearize(scene, params={})
     with pytest.raises(md.MechdynError, match="not an element"):
         mech.linearize(scene, params=two_mass.params, outputs=["rope"])
+    missing = {k: v for k, v in two_mass.params.items() if str(k) != "M"}
+    with pytest.raises(md.ParameterError, match="operating value of input 'M'"):
+        mech.linearize(scene, params=missing, inputs=["M"])
