@@ -6,12 +6,15 @@ closed form of the four-bar, its velocity and acceleration loop equations solved
 hand, the textbook reduced inertia, Newton's laws per link, the law of cosines.
 """
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 import sympy as sp
 
 import mechdyn as md
+
+ROOT = Path(__file__).resolve().parents[1]
 
 A, B, C, D = 0.1, 0.35, 0.3, 0.4          # crank, coupler, rocker, ground (crank-rocker)
 J1, M2, M3 = 0.002, 1.5, 1.2
@@ -446,3 +449,14 @@ def test_prismatic_guide_reaction_of_a_slider_crank_with_a_massless_rod():
     result = mech.simulate(free, {})
     kinetic, potential = result.energy()
     assert np.max(np.abs(kinetic + potential - kinetic[0])) < 1e-8 * kinetic[0]
+
+
+def test_the_printed_loop_derivation_names_first_then_second_order_transmission_functions():
+    """The four-bar's derivation states theta_2', theta_3' (first order) and then
+    theta_2'', theta_3'' (second order: two primes, d2/dphi2), before I_red and M_red."""
+    model = md.load_model(ROOT / "models" / "fourbar_flywheel.py")
+    names = [line.split("&=")[0].strip() for line in model.mechanism.latex().splitlines()
+             if "&=" in line]
+    ratios = [n for n in names if n.startswith("\\theta_{") and n.endswith("'")]
+    assert ratios == ["\\theta_{2}'", "\\theta_{3}'", "\\theta_{2}''", "\\theta_{3}''"]
+    assert names[names.index("\\theta_{3}''") + 1:] == ["I_{\\mathrm{red}}", "M_{\\mathrm{red}}"]
