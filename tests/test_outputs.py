@@ -83,6 +83,7 @@ def test_sample_times_are_exact_multiples(brake):
     # k / 1000, the nearest double to each multiple (k * 0.001 misses 282 of the first 2000)
     assert times[:2000].tolist() == [k / 1000 for k in range(2000)]
     assert res.sample_times(7.0)[-2:].tolist() == [49.0, res.t_end]    # the end is kept
+    assert res.sample_times(0.3)[:4] == pytest.approx([0.0, 0.3, 0.6, 0.9], abs=1e-15)
     with pytest.raises(md.MechdynError, match="positive time step"):
         res.sample_times(0)
 
