@@ -460,3 +460,24 @@ def test_the_printed_loop_derivation_names_first_then_second_order_transmission_
     ratios = [n for n in names if n.startswith("\\theta_{") and n.endswith("'")]
     assert ratios == ["\\theta_{2}'", "\\theta_{3}'", "\\theta_{2}''", "\\theta_{3}''"]
     assert names[names.index("\\theta_{3}''") + 1:] == ["I_{\\mathrm{red}}", "M_{\\mathrm{red}}"]
+
+
+def test_a_stiff_closed_loop_starts_on_the_stiff_method_and_decays_as_by_hand():
+    """A slider (1 kg) geared to a wheel (2 kg m^2, x = 2 y: m_red = 1.5 kg) on a stiff
+    spring (1e6 N/m) and damper (1e5 N s/m): 1.5 s^2 + 1e5 s + 1e6 = 0 has a fast root
+    near -66,657 1/s beside the slow one near -10, so the run starts on the stiff method
+    (judged on the motion the loop allows); x(t) = A e^(s1 t) + B e^(s2 t) from x = 0.2,
+    x' = 0."""
+    x, y = md.coordinate("x"), md.coordinate("y")
+    mech = md.Mechanism("stiff geared pair", [x, y], independent=x)
+    mech.link("slider", m=1, x=x)
+    mech.link("wheel", J=2, angle=y)
+    mech.constraint("rack", x - 2 * y)
+    mech.spring("spring", 1e6, stretch=x)
+    mech.damper("damper", 1e5, stretch=x)
+    res = mech.simulate(md.Scene("settle", initial={x: 0.2, y: 0.1, md.speed(x): 0},
+                                 t_end=1), {})
+    assert res.stats["method"].split("+")[0] == "Rodas5P"
+    s1, s2 = np.roots([1.5, 1e5, 1e6])
+    a = 0.2 * s2 / (s2 - s1)                       # x(0) = a + b, x'(0) = a s1 + b s2 = 0
+    assert res.final(x) == pytest.approx(a * np.exp(s1) + (0.2 - a) * np.exp(s2), rel=1e-5)
