@@ -230,3 +230,16 @@ def test_a_lever_touching_its_stop_at_a_speed_of_rounding_size_rests_on_it():
     assert [e.time for e in res.events if e.kind == "lift"] == \
         [pytest.approx(math.pi / 2, rel=1e-9)]
     assert res.final(md.speed(x)) == pytest.approx(-1.5 * (math.sin(3) - 1), rel=1e-9)
+
+
+def test_the_printed_derivation_states_the_gap_and_the_impact_law():
+    """A stop prints its gap (0.1 - x >= 0 for an upper limit at 0.1) and Newton's impact
+    law g'+ = -e g'- with e = 0.8: the speed reverses, reduced by e."""
+    x = md.coordinate("x")
+    mech = md.Mechanism("ball", [x])
+    mech.link("ball", m=1, x=x)
+    mech.load("push", 1, along=x)
+    mech.stop("stop", along=x, upper=0.1, restitution=0.8)
+    lines = [line for line in mech.latex().splitlines() if "stop" in line]
+    assert lines == ["g_{\\text{stop.upper}} &= 0.1 - x \\geq 0 \\\\",
+                     "\\dot{g}^{+}_{\\text{stop.upper}} &= - 0.8 \\dot{g} \\\\"]
