@@ -243,3 +243,16 @@ def test_the_derivation_prints_the_energy_functions_there_are_and_only_those(exp
     assert lines[:2] == ["T", "V"] and "D" not in lines
     lines, _ = disc(spring=False, damper=False)
     assert lines[0] == "T" and "V" not in lines and "D" not in lines
+
+
+def test_the_named_equation_of_motion_has_half_the_inertia_slope(capsys):
+    """The named form of the Scotch yoke: I_red = J_1A + m_3 x_yoke'^2, so the velocity
+    term 1/2 dI_red/dphi phi'^2 is m_3 x_yoke' x_yoke'' phi'^2."""
+    text = _in_process(capsys, MODELS / "scotch_yoke.py", "--format", "text")
+    line = next(line for line in text.splitlines() if "equation of motion:" in line)
+    lhs = line.split("equation of motion:")[1].split("=")[0]
+    lhs = lhs.replace("x_yoke''", "w").replace("x_yoke'", "v")     # the transmission functions
+    m3, J1A, speed, acceleration, v, w = sp.symbols("m_3 J_1A phidot phiddot v w")
+    names = {str(s): s for s in (m3, J1A, speed, acceleration, v, w)}
+    by_hand = (J1A + m3 * v**2) * acceleration + m3 * v * w * speed**2
+    assert sp.expand(sp.parse_expr(lhs, local_dict=names) - by_hand) == 0
