@@ -631,7 +631,9 @@ def copy_repository(target: Path) -> Path:
 
 # Run by every process started with the copy on PYTHONPATH: a process a test starts while
 # the map is built records its lines; one a mutant's test starts with the cache folder it
-# inherited uses the mutant's own (it imports the mutated file, which keys its scenes).
+# inherited uses the mutant's own, and keys its scenes by the digest of the sources the
+# mutant's process took before the edit (else a test that fills a cache in a process of
+# its own and reads it in its own process finds other keys: a kill that is no kill).
 SITE = """import os
 if os.environ.get('MECHDYN_MUTATION_MAP') and os.environ.get('MECHDYN_MUTATION_TEST'):
     import mutation_probe
@@ -639,6 +641,24 @@ if os.environ.get('MECHDYN_MUTATION_MAP') and os.environ.get('MECHDYN_MUTATION_T
 _sub = os.environ.get('MECHDYN_MUTATION_SUBCACHE')
 if _sub and os.environ.get('MECHDYN_CACHE') == os.environ.get('MECHDYN_MUTATION_INHERITED'):
     os.environ['MECHDYN_CACHE'] = os.environ['MECHDYN_TESTS_CACHE_FOLDER'] = _sub
+_digest = os.environ.get('MECHDYN_MUTATION_DIGEST')
+if _digest:                  # key scenes as the mutant's own process does (mutation_server)
+    import importlib.abc, importlib.util, sys
+
+    class _SameDigest(importlib.abc.MetaPathFinder):
+        def find_spec(self, name, path, target=None):
+            if name != 'mechdyn.keys':
+                return None
+            sys.meta_path.remove(self)
+            spec = importlib.util.find_spec(name)
+            run = spec.loader.exec_module
+
+            def exec_module(module):
+                run(module)
+                module._SOURCES = _digest
+            spec.loader.exec_module = exec_module
+            return spec
+    sys.meta_path.insert(0, _SameDigest())
 """
 
 

@@ -27,8 +27,9 @@ A mutant's scenes: the digest of mechdyn's sources (``mechdyn.keys.source_digest
 taken once in the server, before any mutant, so a child's scenes are keyed as the
 unmutated ones; a request names the cache folder the child uses (a warm one shared by the
 mutants that cannot change generated code, an empty one for the others) and the one for
-processes its tests start (``MECHDYN_MUTATION_SUBCACHE``: they read the mutated file, key
-their scenes by it, and compile them there).
+processes its tests start (``MECHDYN_MUTATION_SUBCACHE``: they import the mutated file and
+compile their scenes there, keyed by the same digest, ``MECHDYN_MUTATION_DIGEST``, so that a
+cache one process fills is read by the other as it is in the unmutated suite).
 """
 import importlib
 import json
@@ -191,6 +192,8 @@ def _run_child(request):
     from mutation_probe import Ordered
     os.environ["MECHDYN_CACHE"] = os.environ["MECHDYN_TESTS_CACHE_FOLDER"] = request["cache"]
     os.environ["MECHDYN_MUTATION_SUBCACHE"] = request["subcache"]
+    import mechdyn.keys
+    os.environ["MECHDYN_MUTATION_DIGEST"] = mechdyn.keys.source_digest()    # taken unmutated
     os.environ["PYTHONDONTWRITEBYTECODE"] = "1"
     if request.get("source") is not None:
         Path(ROOT, request["file"]).write_text(request["source"])

@@ -345,3 +345,23 @@ def test_the_fork_server_swaps_a_function_and_executes_a_module_again(tmp_path, 
     assert how == "module"
     assert (mechdyn_toy_a.LIMIT, mechdyn_toy_b.LIMIT, mechdyn_toy_b.THREE) == (4, 4, 3)
     assert mechdyn_toy_b.C is mechdyn_toy_a.C and mechdyn_toy_b.C().m() == 5
+
+
+def test_a_process_a_mutant_s_test_starts_keys_scenes_by_the_mutant_s_digest(tmp_path):
+    """The copy's sitecustomize.py makes a process started by a test key its scenes by
+    the digest the mutant's own process took before the edit: a cache one fills, the
+    other reads (a test filling the cache in a process of its own failed on every
+    mutant: a kill that was no kill)."""
+    import os
+    import subprocess
+    (tmp_path / "sitecustomize.py").write_text(mutation.SITE)
+    env = dict(os.environ, PYTHONPATH=f"{tmp_path}{os.pathsep}{_PATH.parents[1]}",
+               MECHDYN_MUTATION_DIGEST="0123456789abcdef")
+    code = "import mechdyn.keys as k; print(k.source_digest())"
+    done = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+                          text=True, check=True)
+    assert done.stdout.strip() == "0123456789abcdef"
+    env.pop("MECHDYN_MUTATION_DIGEST")
+    done = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+                          text=True, check=True)
+    assert len(done.stdout.strip()) == 16 and done.stdout.strip() != "0123456789abcdef"
