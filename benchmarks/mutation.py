@@ -424,7 +424,8 @@ def testing(rel: str) -> frozenset:
                      if rel in _imports(path, "tests"))
 
 
-def compiled_files() -> set:
+@functools.cache
+def compiled_files() -> frozenset:
     """mechdyn's files whose code numba compiles, and the mechdyn modules they import
     (their globals are frozen into the machine code): a mutant of one of them must not
     meet numba's cache of the unmutated code."""
@@ -440,7 +441,7 @@ def compiled_files() -> set:
             found.add(rel)
             package = _dotted(rel) if rel.endswith("__init__.py") else _dotted(rel).rpartition(".")[0]
             todo.extend(_imports(ROOT / rel, package))
-    return found
+    return frozenset(found)
 
 
 def statement_lines(source: str, line: int) -> range:
