@@ -73,11 +73,21 @@ def prepare(test_paths):
 
 # ---------------------------------------------------------------- mutating in memory
 
+def _named(code, qualname, first) -> bool:
+    """Whether ``code`` is the function ``qualname`` defined at line ``first`` (Python
+    3.10's code objects have no qualified name: their own name then)."""
+    if code.co_firstlineno != first:
+        return False
+    if hasattr(code, "co_qualname"):
+        return code.co_qualname == qualname
+    return code.co_name == qualname.rsplit(".", 1)[-1]
+
+
 def _find_code(code, qualname, first):
-    if code.co_qualname == qualname and code.co_firstlineno == first:
+    if _named(code, qualname, first):
         return code
     for constant in code.co_consts:
-        if hasattr(constant, "co_qualname"):
+        if hasattr(constant, "co_code"):
             found = _find_code(constant, qualname, first)
             if found is not None:
                 return found
@@ -111,7 +121,7 @@ def _live_function(module, qualname, first) -> tuple:
     chain = _unwrap(value) if value is not None else []
     for function in chain:
         code = getattr(function, "__code__", None)
-        if code is not None and code.co_firstlineno == first and code.co_qualname == qualname:
+        if code is not None and _named(code, qualname, first):
             return function, chain
     return None, []
 
